@@ -1,0 +1,216 @@
+//! Rendered images and writing them to disk atomically.
+
+use glam::DVec3;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// A rendered picture: linear RGB floats, rows from the top.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Image {
+    width: u32,
+    height: u32,
+    pixels: Vec<[f32; 3]>,
+}
+
+/// Why an image could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum SaveError {
+    /// The extension names no format glint writes.
+    #[error("{path}: unknown image format `{ext}` (use .png, .bmp, .exr or .hdr)")]
+    UnknownFormat {
+        /// The output path.
+        path: PathBuf,
+        /// Its extension.
+        ext: String,
+    },
+    /// Encoding or writing failed.
+    #[error("{path}: {message}")]
+    Write {
+        /// The output path.
+        path: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
+}
+
+/// Output formats, chosen by extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// 8-bit PNG.
+    Png,
+    /// 24-bit BMP.
+    Bmp,
+    /// OpenEXR, 32-bit float.
+    Exr,
+    /// Radiance HDR.
+    Hdr,
+}
+
+impl Format {
+    /// The format for a path's extension (case-insensitive).
+    pub fn from_path(path: &Path) -> Result<Format, SaveError> {
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .unwrap_or("")
+            .to_ascii_lowercase();
+        match ext.as_str() {
+            "png" => Ok(Format::Png),
+            "bmp" => Ok(Format::Bmp),
+            "exr" => Ok(Format::Exr),
+            "hdr" => Ok(Format::Hdr),
+            _ => Err(SaveError::UnknownFormat {
+                path: path.to_path_buf(),
+                ext,
+            }),
+        }
+    }
+}
+
+impl Image {
+    /// An image whose pixel (x, y) (y from the top) is `f(x, y)`.
+    pub fn from_fn(width: u32, height: u32, mut f: impl FnMut(u32, u32) -> DVec3) -> Image {
+        let mut pixels = Vec::with_capacity(width as usize * height as usize);
+        for y in 0..height {
+            for x in 0..width {
+                pixels.push(f(x, y).as_vec3().to_array());
+            }
+        }
+        Image {
+            width,
+            height,
+            pixels,
+        }
+    }
+
+    /// Width in pixels.
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// Height in pixels.
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
+    /// The linear colour of pixel (x, y), y from the top.
+    pub fn pixel(&self, x: u32, y: u32) -> [f32; 3] {
+        self.pixels[(y * self.width + x) as usize]
+    }
+
+    /// The framework's 8-bit output: floor(255 · clamp(c, 0, 1)) per channel, no gamma.
+    pub fn to_rgb8(&self) -> Vec<u8> {
+        self.pixels
+            .iter()
+            .flat_map(|p| p.map(|c| (255.0 * c.clamp(0.0, 1.0)).floor() as u8))
+            .collect()
+    }
+
+    /// Writes the image in the format its extension names, through a
+    /// temporary file in the same folder renamed into place: a failed write
+    /// leaves no partial file and does not touch an existing one.
+    pub fn save(&self, path: impl AsRef<Path>) -> Result<(), SaveError> {
+        let path = path.as_ref();
+        let format = Format::from_path(path)?;
+        let bytes = self.encode(format).map_err(|message| SaveError::Write {
+            path: path.to_path_buf(),
+            message,
+        })?;
+        write_atomically(path, &bytes).map_err(|e| SaveError::Write {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        })
+    }
+
+    /// The encoded file contents.
+    pub fn encode(&self, format: Format) -> Result<Vec<u8>, String> {
+        use ::image::{ImageFormat, Rgb32FImage, RgbImage};
+        let mut out = std::io::Cursor::new(Vec::new());
+        let result = match format {
+            Format::Png | Format::Bmp => {
+                let img = RgbImage::from_raw(self.width, self.height, self.to_rgb8())
+                    .ok_or("image buffer has the wrong size")?;
+                let f = if format == Format::Png {
+                    ImageFormat::Png
+                } else {
+                    ImageFormat::Bmp
+                };
+                img.write_to(&mut out, f)
+            }
+            Format::Exr | Format::Hdr => {
+                let raw = self.pixels.iter().flatten().copied().collect();
+                let img = Rgb32FImage::from_raw(self.width, self.height, raw)
+                    .ok_or("image buffer has the wrong size")?;
+                let f = if format == Format::Exr {
+                    ImageFormat::OpenExr
+                } else {
+                    ImageFormat::Hdr
+                };
+                img.write_to(&mut out, f)
+            }
+        };
+        result.map_err(|e| e.to_string())?;
+        Ok(out.into_inner())
+    }
+}
+
+/// Writes `bytes` to a hidden temporary file beside `path`, syncs it and
+/// renames it over `path`; the temporary file is removed on failure.
+pub fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let tmp = dir.join(format!(".{name}.glint-{}.tmp", std::process::id()));
+    let result = (|| {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+        std::fs::rename(&tmp, path)
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quantises_like_the_framework() {
+        let img = Image::from_fn(4, 1, |x, _| DVec3::splat([-0.5, 0.5, 1.0, 7.0][x as usize]));
+        assert_eq!(
+            img.to_rgb8(),
+            vec![0, 0, 0, 127, 127, 127, 255, 255, 255, 255, 255, 255]
+        );
+    }
+
+    #[test]
+    fn unknown_extension_is_an_error_and_writes_nothing() {
+        let dir = std::env::temp_dir().join(format!("glint-out-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("x.tiff");
+        let img = Image::from_fn(2, 2, |_, _| DVec3::ONE);
+        assert!(matches!(img.save(&p), Err(SaveError::UnknownFormat { .. })));
+        assert!(!p.exists());
+        // A folder that does not exist: an error, nothing left behind.
+        assert!(img.save(dir.join("missing/x.png")).is_err());
+        // Round trip through PNG.
+        let p = dir.join("x.png");
+        img.save(&p).unwrap();
+        let back = ::image::open(&p).unwrap().to_rgb8();
+        assert_eq!(back.as_raw(), &vec![255u8; 12]);
+        assert_eq!(
+            std::fs::read_dir(&dir).unwrap().count(),
+            1,
+            "no temporary file left"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

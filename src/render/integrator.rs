@@ -1,0 +1,288 @@
+//! The framework's shading model (spec: "Shading model"), computed exactly.
+
+use crate::accel::Accel;
+use crate::geometry::{Ray, offset_origin};
+use crate::scene::{LightKind, Scene};
+use crate::shading::shade_factor;
+use glam::DVec3;
+use rand::Rng;
+use rand_pcg::Pcg32;
+
+/// A ray of this depth returns black (the camera ray has depth 1).
+pub const MAX_DEPTH: u32 = 10;
+/// Glossy reflections are averaged over many rays up to this depth, one ray deeper.
+const GLOSSY_AVERAGE_DEPTH: u32 = 2;
+
+/// Rays traced, by kind.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RayCounts {
+    /// Primary rays.
+    pub camera: u64,
+    /// Mirror and glossy reflection rays.
+    pub reflected: u64,
+    /// Refraction (and total-internal-reflection) rays.
+    pub refracted: u64,
+    /// Shadow rays.
+    pub shadow: u64,
+}
+
+impl RayCounts {
+    /// All rays together.
+    pub fn total(&self) -> u64 {
+        self.camera + self.reflected + self.refracted + self.shadow
+    }
+
+    /// Adds another tally to this one.
+    pub fn add(&mut self, o: &RayCounts) {
+        self.camera += o.camera;
+        self.reflected += o.reflected;
+        self.refracted += o.refracted;
+        self.shadow += o.shadow;
+    }
+}
+
+/// The state one camera sample carries down its tree of rays.
+pub struct PathState {
+    /// The sample's own random stream.
+    pub rng: Pcg32,
+    /// Rays traced so far.
+    pub rays: RayCounts,
+}
+
+/// Evaluates the shading model for rays in a scene.
+pub struct Tracer<'a> {
+    scene: &'a Scene,
+    accel: &'a Accel<'a>,
+    shadow_samples: u32,
+    glossy_samples: u32,
+    /// Per-object and per-light values summed into a pixel's hash.
+    object_ids: Vec<u64>,
+}
+
+impl<'a> Tracer<'a> {
+    /// A tracer over `scene` using `accel` for ray queries.
+    pub fn new(scene: &'a Scene, accel: &'a Accel<'a>) -> Self {
+        let object_ids = accel
+            .objects()
+            .iter()
+            .map(|o| match (o.block, o.light) {
+                (Some(b), _) => mix(b as u64 + 1),
+                (None, Some(l)) => mix((l as u64 + 1) << 32),
+                (None, None) => 0,
+            })
+            .collect();
+        Tracer {
+            scene,
+            accel,
+            shadow_samples: 16 * scene.camera.shade_quality.max(1),
+            glossy_samples: 16 * scene.camera.drefl_quality.max(1),
+            object_ids,
+        }
+    }
+
+    /// The colour seen along a camera ray, adding to `hash` what the
+    /// framework's anti-aliasing compares between neighbours.
+    pub fn trace_camera(&self, ray: &Ray, st: &mut PathState, hash: &mut u64) -> DVec3 {
+        st.rays.camera += 1;
+        self.trace(ray, 1, st, Some(hash))
+    }
+
+    /// The framework's `RayTracing`: the colour along `ray` at `depth`,
+    /// clamped to at most 1 per channel.
+    fn trace(
+        &self,
+        ray: &Ray,
+        depth: u32,
+        st: &mut PathState,
+        mut hash: Option<&mut u64>,
+    ) -> DVec3 {
+        let scene = self.scene;
+        let Some((index, hit)) = self.accel.intersect(ray, f64::INFINITY) else {
+            return scene.background.color(ray.dir).min(DVec3::ONE);
+        };
+        let object = &self.accel.objects()[index as usize];
+        if let Some(h) = hash.as_deref_mut() {
+            *h = h.wrapping_add(self.object_ids[index as usize]);
+        }
+        if let Some(light) = object.light {
+            return scene.lights[light as usize].color.min(DVec3::ONE);
+        }
+        let surface = object.shape.surface(ray, &hit);
+        let point = surface.point;
+        let front = surface.normal.dot(ray.dir) < 0.0;
+        // Normals facing the ray: geometric (for nudging new rays) and shading.
+        let (side, n) = if front {
+            (surface.normal, surface.shading_normal)
+        } else {
+            (-surface.normal, -surface.shading_normal)
+        };
+        let m = &scene.materials[object.material as usize];
+        let mut color = DVec3::ZERO;
+
+        if m.diff > 0.0 || m.spec > 0.0 {
+            let k = match m.texture {
+                Some(t) => m.color * scene.textures[t as usize].sample(surface.uv),
+                None => m.color,
+            };
+            for (li, light) in scene.lights.iter().enumerate() {
+                let l = (light.center() - point).normalize_or_zero();
+                let d = l.dot(n);
+                if d <= 0.0 {
+                    continue;
+                }
+                let (s, rays) = shade_factor(
+                    self.accel,
+                    light,
+                    li as u32,
+                    point,
+                    side,
+                    self.shadow_samples,
+                    &mut st.rng,
+                );
+                st.rays.shadow += rays;
+                if s <= 0.0 {
+                    continue;
+                }
+                if let (Some(h), LightKind::Point { .. }) = (hash.as_deref_mut(), light.kind) {
+                    *h = h.wrapping_add(mix(li as u64 + 1) ^ 0x9e37_79b9_7f4a_7c15);
+                }
+                let weight = m.diff * d * s + m.spec * d.powi(20) * s;
+                color += k * light.color * weight;
+            }
+        }
+
+        if depth < MAX_DEPTH && m.refl > 0.0 {
+            let mirror = reflect(ray.dir, n);
+            let origin = offset_origin(point, side);
+            let weight = m.color * m.refl;
+            if m.drefl <= 0.0 {
+                st.rays.reflected += 1;
+                color += self.trace(
+                    &Ray::new(origin, mirror),
+                    depth + 1,
+                    st,
+                    hash.as_deref_mut(),
+                ) * weight;
+            } else {
+                let samples = if depth <= GLOSSY_AVERAGE_DEPTH {
+                    self.glossy_samples
+                } else {
+                    1
+                };
+                let (a1, a2) = crate::shading::perpendiculars(mirror);
+                let mut sum = DVec3::ZERO;
+                for _ in 0..samples {
+                    let dir = glossy_direction(mirror, side, a1, a2, m.drefl, &mut st.rng);
+                    st.rays.reflected += 1;
+                    sum += self.trace(&Ray::new(origin, dir), depth + 1, st, None);
+                }
+                color += sum / samples as f64 * weight;
+            }
+        }
+
+        if depth < MAX_DEPTH && m.refr > 0.0 {
+            let eta = if front { 1.0 / m.rindex } else { m.rindex };
+            let (dir, origin) = match refract(ray.dir, n, eta) {
+                Some(t) => (t, offset_origin(point, -side)),
+                None => (reflect(ray.dir, n), offset_origin(point, side)),
+            };
+            st.rays.refracted += 1;
+            let c = self.trace(&Ray::new(origin, dir), depth + 1, st, hash.as_deref_mut());
+            let weight = if front {
+                DVec3::splat(m.refr)
+            } else {
+                (-m.absor * hit.t).exp() * m.refr
+            };
+            color += c * weight;
+        }
+        color.min(DVec3::ONE)
+    }
+}
+
+/// `d` mirrored about the unit normal `n`.
+#[inline]
+fn reflect(d: DVec3, n: DVec3) -> DVec3 {
+    d - n * (2.0 * d.dot(n))
+}
+
+/// Snell's law for unit `d` arriving against unit `n` with index ratio
+/// `eta`; `None` on total internal reflection.
+#[inline]
+fn refract(d: DVec3, n: DVec3, eta: f64) -> Option<DVec3> {
+    let cos_i = -d.dot(n);
+    let k = 1.0 - eta * eta * (1.0 - cos_i * cos_i);
+    (k >= 0.0).then(|| (d * eta + n * (eta * cos_i - k.sqrt())).normalize())
+}
+
+/// The mirror direction perturbed by the `exp` blur: offset by
+/// drefl·(x·a1 + y·a2) with radius 2^u − 1 and a uniform angle. A direction
+/// pushed below the surface is folded back above it.
+fn glossy_direction(
+    mirror: DVec3,
+    side: DVec3,
+    a1: DVec3,
+    a2: DVec3,
+    drefl: f64,
+    rng: &mut Pcg32,
+) -> DVec3 {
+    let radius = 2f64.powf(rng.random::<f64>()) - 1.0;
+    let angle = std::f64::consts::TAU * rng.random::<f64>();
+    let mut dir = (mirror + (a1 * angle.cos() + a2 * angle.sin()) * (radius * drefl)).normalize();
+    let below = dir.dot(side);
+    if below < 0.0 {
+        dir -= side * (2.0 * below);
+    }
+    dir
+}
+
+/// A 64-bit mix (splitmix64's finaliser).
+#[inline]
+pub fn mix(mut z: u64) -> u64 {
+    z = z.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn snell_and_total_internal_reflection() {
+        // 45° into glass of index 1.5: sin t = sin 45° / 1.5.
+        let d = DVec3::new(1.0, 0.0, -1.0).normalize();
+        let t = refract(d, DVec3::Z, 1.0 / 1.5).unwrap();
+        let sin_t = (0.5f64.sqrt()) / 1.5;
+        assert!((t.x - sin_t).abs() < 1e-14 && (t.z + (1.0 - sin_t * sin_t).sqrt()).abs() < 1e-14);
+        // Leaving glass at 45° with index 1.5: sin t would be 1.06 > 1.
+        assert!(refract(d, DVec3::Z, 1.5).is_none());
+        assert_eq!(reflect(d, DVec3::Z), DVec3::new(d.x, 0.0, -d.z));
+    }
+
+    #[test]
+    fn glossy_directions_stay_above_the_surface_and_near_the_mirror() {
+        use rand::SeedableRng;
+        let mut rng = Pcg32::seed_from_u64(7);
+        // Steep mirror direction: no folding, so the angle to it is at most atan(drefl).
+        let mirror = DVec3::new(1.0, 0.0, 1.0).normalize();
+        let (a1, a2) = crate::shading::perpendiculars(mirror);
+        let mut max_angle: f64 = 0.0;
+        for _ in 0..2000 {
+            let d = glossy_direction(mirror, DVec3::Z, a1, a2, 0.25, &mut rng);
+            assert!((d.length() - 1.0).abs() < 1e-12);
+            max_angle = max_angle.max(d.dot(mirror).clamp(-1.0, 1.0).acos());
+        }
+        assert!(max_angle <= 0.25f64.atan() + 1e-12);
+        assert!(
+            max_angle > 0.2,
+            "the blur reaches close to its radius: {max_angle}"
+        );
+        // Grazing mirror direction: every sample is folded above the surface.
+        let mirror = DVec3::new(1.0, 0.0, 0.01).normalize();
+        let (a1, a2) = crate::shading::perpendiculars(mirror);
+        for _ in 0..2000 {
+            assert!(glossy_direction(mirror, DVec3::Z, a1, a2, 0.25, &mut rng).z >= 0.0);
+        }
+    }
+}

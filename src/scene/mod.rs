@@ -1,0 +1,325 @@
+//! The scene: what a file in the framework's format describes, parsed,
+//! validated and resolved (textures decoded, meshes loaded), ready to render.
+//!
+//! A file is a sequence of blocks (`background`, `camera`, `light TYPE`,
+//! `primitive TYPE`), each closed by `end`, holding `key= values` lines; see
+//! `docs/format.md` for every key.
+
+mod diagnostic;
+mod parser;
+
+pub use diagnostic::{Diagnostic, SceneError, Severity};
+
+use crate::geometry::Shape;
+use crate::shading::Texture;
+use glam::DVec3;
+use std::path::{Path, PathBuf};
+
+/// The camera block: a pinhole eye and the framework's quality knobs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Camera {
+    /// Eye position (`O=`).
+    pub origin: DVec3,
+    /// Unit view direction (`N=`).
+    pub dir: DVec3,
+    /// Full image-plane width at distance 1 (`lens_W=`).
+    pub lens_w: f64,
+    /// Full image-plane height at distance 1 (`lens_H=`).
+    pub lens_h: f64,
+    /// Output width in pixels (`image_W=`).
+    pub width: u32,
+    /// Output height in pixels (`image_H=`).
+    pub height: u32,
+    /// Area-light shadow rays per point = 16 × this (`shade_quality=`).
+    pub shade_quality: u32,
+    /// Glossy-reflection rays = 16 × this (`drefl_quality=`).
+    pub drefl_quality: u32,
+    /// Photon-mapping settings (rendered by a later feature).
+    pub photons: PhotonSettings,
+    /// Depth of field (variants; rendered by a later feature).
+    pub dof: DepthOfField,
+}
+
+impl Default for Camera {
+    fn default() -> Self {
+        Camera {
+            origin: DVec3::ZERO,
+            dir: DVec3::Y,
+            lens_w: 0.88,
+            lens_h: 0.88,
+            width: 420,
+            height: 420,
+            shade_quality: 4,
+            drefl_quality: 4,
+            photons: PhotonSettings::default(),
+            dof: DepthOfField::default(),
+        }
+    }
+}
+
+/// The photon-map keys of the camera block.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PhotonSettings {
+    /// Photon map capacity (`max_photons=`).
+    pub max_photons: u64,
+    /// Photons emitted (`emit_photons=`).
+    pub emit_photons: u64,
+    /// Photons gathered per estimate (`sample_photons=`).
+    pub sample_photons: u64,
+    /// Gather radius (`sample_dist=`).
+    pub sample_dist: f64,
+    /// Progressive photon mapping hit points (`max_hitpoints=`), if given.
+    pub max_hitpoints: Option<u64>,
+    /// Progressive photon mapping passes (`iterations=`), if given.
+    pub iterations: Option<u64>,
+    /// Progressive radius reduction (`reduction=`), if given.
+    pub reduction: Option<f64>,
+}
+
+impl Default for PhotonSettings {
+    fn default() -> Self {
+        PhotonSettings {
+            max_photons: 2_000_000,
+            emit_photons: 1_000_000,
+            sample_photons: 100,
+            sample_dist: 1.0,
+            max_hitpoints: None,
+            iterations: None,
+            reduction: None,
+        }
+    }
+}
+
+/// Depth-of-field keys of the camera block (0 aperture: pinhole).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct DepthOfField {
+    /// Lens radius (`aperture=`).
+    pub aperture: f64,
+    /// Focus distance (`focalLen=`).
+    pub focal_len: f64,
+    /// Samples per pixel (`dofSample=`).
+    pub samples: u32,
+}
+
+/// What a ray that hits nothing sees.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Background {
+    /// A uniform colour (`color=`).
+    Color(DVec3),
+    /// A vertical gradient (`top=` / `bottom=`) on the ray direction's z.
+    Gradient {
+        /// Colour looking straight up.
+        top: DVec3,
+        /// Colour looking straight down.
+        bottom: DVec3,
+    },
+}
+
+impl Background {
+    /// The colour seen along the unit direction `d`.
+    #[inline]
+    pub fn color(&self, d: DVec3) -> DVec3 {
+        match *self {
+            Background::Color(c) => c,
+            Background::Gradient { top, bottom } => {
+                let t = (d.z + 1.0) * 0.5;
+                bottom * (1.0 - t) + top * t
+            }
+        }
+    }
+}
+
+/// Surface material (the same keys on every primitive).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    /// Base colour (`color=`).
+    pub color: DVec3,
+    /// Diffuse coefficient (`diff=`).
+    pub diff: f64,
+    /// Specular coefficient (`spec=`).
+    pub spec: f64,
+    /// Mirror reflection coefficient (`refl=`).
+    pub refl: f64,
+    /// Glossiness of the reflection (`drefl=`, 0: perfect mirror).
+    pub drefl: f64,
+    /// Transmission coefficient (`refr=`).
+    pub refr: f64,
+    /// Index of refraction (`rindex=`).
+    pub rindex: f64,
+    /// Beer absorption per unit length inside, per channel (`absor=`).
+    pub absor: DVec3,
+    /// Index into [`Scene::textures`] (`texture=`).
+    pub texture: Option<u32>,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Material {
+            color: DVec3::ZERO,
+            diff: 0.0,
+            spec: 0.0,
+            refl: 0.0,
+            drefl: 0.0,
+            refr: 0.0,
+            rindex: 0.0,
+            absor: DVec3::ZERO,
+            texture: None,
+        }
+    }
+}
+
+/// One light source.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Light {
+    /// Its shape and position.
+    pub kind: LightKind,
+    /// Emitted colour, `intensity=` already multiplied in.
+    pub color: DVec3,
+}
+
+impl Light {
+    /// The light's centre (where L points in the shading model).
+    pub fn center(&self) -> DVec3 {
+        match self.kind {
+            LightKind::Point { pos } => pos,
+            LightKind::Square { center, .. } | LightKind::Sphere { center, .. } => center,
+        }
+    }
+}
+
+/// The kinds of light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LightKind {
+    /// `light point`: one shadow ray, hard shadows.
+    Point {
+        /// Position.
+        pos: DVec3,
+    },
+    /// `light square`: area light over centre ± dx ± dy.
+    Square {
+        /// Centre.
+        center: DVec3,
+        /// Half-edge vector.
+        dx: DVec3,
+        /// Half-edge vector.
+        dy: DVec3,
+    },
+    /// `light sphere`: area light over a sphere.
+    Sphere {
+        /// Centre.
+        center: DVec3,
+        /// Radius.
+        radius: f64,
+    },
+}
+
+/// One renderable surface: a shape with its material.
+#[derive(Clone, Debug)]
+pub struct Object {
+    /// The geometry.
+    pub shape: Shape,
+    /// Index into [`Scene::materials`].
+    pub material: u32,
+    /// 0-based index of the `primitive` block it came from, in file order
+    /// (`None` for the visible surface of an area light).
+    pub block: Option<u32>,
+    /// The light this surface emits for, if it is an area light's surface.
+    pub light: Option<u32>,
+}
+
+/// A parsed and validated scene.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    /// The file it was read from (`None` when parsed from a string).
+    pub path: Option<PathBuf>,
+    /// The camera.
+    pub camera: Camera,
+    /// The background.
+    pub background: Background,
+    /// Materials, indexed by [`Object::material`].
+    pub materials: Vec<Material>,
+    /// Decoded textures, indexed by [`Material::texture`].
+    pub textures: Vec<Texture>,
+    /// Lights, in file order.
+    pub lights: Vec<Light>,
+    /// Every surface: primitives in file order (a mesh expanded into its
+    /// triangles) and the visible surfaces of area lights.
+    pub objects: Vec<Object>,
+    /// Warnings found while reading (unused keys, adjusted values).
+    pub warnings: Vec<Diagnostic>,
+    /// Notes for verbose output (e.g. which folder a texture was found in).
+    pub notes: Vec<String>,
+}
+
+impl Scene {
+    /// Reads and validates a scene file; relative texture and mesh paths
+    /// are looked up next to the file first, then in the working directory.
+    pub fn from_file(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
+        parser::parse_file(path.as_ref())
+    }
+
+    /// Parses scene text; relative paths are looked up in `base_dir`, then
+    /// in the working directory.
+    pub fn parse(text: &str, base_dir: impl AsRef<Path>) -> Result<Scene, SceneError> {
+        parser::parse_str(text, None, base_dir.as_ref())
+    }
+
+    /// An empty scene (black background, default camera), for building scenes in code.
+    pub fn empty() -> Scene {
+        Scene {
+            path: None,
+            camera: Camera::default(),
+            background: Background::Color(DVec3::ZERO),
+            materials: Vec::new(),
+            textures: Vec::new(),
+            lights: Vec::new(),
+            objects: Vec::new(),
+            warnings: Vec::new(),
+            notes: Vec::new(),
+        }
+    }
+
+    /// Adds a light, and its visible surface for area lights.
+    pub fn add_light(&mut self, light: Light) -> u32 {
+        let index = self.lights.len() as u32;
+        let shape = match light.kind {
+            LightKind::Point { .. } => None,
+            LightKind::Square { center, dx, dy } => {
+                Some(Shape::Square(crate::geometry::Square::new(center, dx, dy)))
+            }
+            LightKind::Sphere { center, radius } => {
+                Some(Shape::Sphere(crate::geometry::Sphere::new(center, radius)))
+            }
+        };
+        if let Some(shape) = shape {
+            let material = self.add_material(Material {
+                color: light.color,
+                ..Material::default()
+            });
+            self.objects.push(Object {
+                shape,
+                material,
+                block: None,
+                light: Some(index),
+            });
+        }
+        self.lights.push(light);
+        index
+    }
+
+    /// Adds a material and returns its index.
+    pub fn add_material(&mut self, material: Material) -> u32 {
+        self.materials.push(material);
+        (self.materials.len() - 1) as u32
+    }
+
+    /// Adds a primitive surface with the given block index and material.
+    pub fn add_object(&mut self, shape: Shape, material: u32, block: u32) {
+        self.objects.push(Object {
+            shape,
+            material,
+            block: Some(block),
+            light: None,
+        });
+    }
+}

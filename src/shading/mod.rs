@@ -1,0 +1,8 @@
+//! Surface appearance: textures and light sampling.
+
+mod light;
+mod texture;
+
+pub use light::shade_factor;
+pub use light::{perpendiculars, strata};
+pub use texture::Texture;
