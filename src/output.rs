@@ -83,6 +83,21 @@ impl Image {
         }
     }
 
+    /// An image from its pixels, rows from the top (`pixels.len()` must be width × height).
+    pub fn from_pixels(width: u32, height: u32, pixels: Vec<[f32; 3]>) -> Image {
+        // invariant: callers build the buffer from the same width and height.
+        assert_eq!(
+            pixels.len(),
+            width as usize * height as usize,
+            "pixel count"
+        );
+        Image {
+            width,
+            height,
+            pixels,
+        }
+    }
+
     /// Width in pixels.
     pub fn width(&self) -> u32 {
         self.width

@@ -1,1 +1,270 @@
-fn main() {}
+//! The `glint` command line: argument parsing, progress and reporting only.
+
+use clap::{Args, Parser, Subcommand};
+use glint::probe::{Prober, parse_ray, to_json};
+use glint::{RenderOptions, Scene, memory_needed, render_with_progress};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::io::{BufRead, IsTerminal, Read, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+/// glint: a fast, exact ray tracer for the teaching framework's scene files.
+#[derive(Parser)]
+#[command(name = "glint", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene file to an image (.png, .bmp, .exr or .hdr).
+    Render(RenderArgs),
+    /// Print the first hit of each ray of a file (one `ox oy oz dx dy dz` per line).
+    Probe(ProbeArgs),
+}
+
+#[derive(Args)]
+struct RenderArgs {
+    /// The scene file.
+    scene: PathBuf,
+    /// Output image; the format follows the extension [default: the scene's name with .png]
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Image width in pixels, overriding the scene's image_W= (the lens stays as the scene sets it).
+    #[arg(long)]
+    width: Option<u32>,
+    /// Image height in pixels, overriding the scene's image_H=.
+    #[arg(long)]
+    height: Option<u32>,
+    /// Worker threads [default: one per core]
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Seed of the random streams (same scene and seed: same bytes, whatever the threads).
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Stratified samples per pixel instead of the framework's adaptive anti-aliasing
+    /// (1: exactly one ray through each pixel's centre).
+    #[arg(long)]
+    spp: Option<u32>,
+    /// No progress bar, no summary (warnings and errors are still printed).
+    #[arg(short, long)]
+    quiet: bool,
+    /// Also print notes (where textures were found) and a breakdown of the rays.
+    #[arg(short, long)]
+    verbose: bool,
+}
+
+#[derive(Args)]
+struct ProbeArgs {
+    /// The scene file.
+    scene: PathBuf,
+    /// File of rays, one `ox oy oz dx dy dz` per line (`-` for standard input).
+    #[arg(long)]
+    rays: PathBuf,
+    /// One JSON object per line: {"hit":true,"t":..,"point":[..],"normal":[..],"front":..,"primitive":K,"uv":[u,v]}.
+    #[arg(long)]
+    json: bool,
+}
+
+/// A failure to report: the message, printed as is, and exit code 2.
+struct Failure(String);
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Render(args) => run_render(args),
+        Command::Probe(args) => run_probe(args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(Failure(message)) => {
+            eprintln!("{message}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// Reads a scene, printing its warnings; errors become a [`Failure`].
+fn load_scene(path: &Path) -> Result<Scene, Failure> {
+    let scene = Scene::from_file(path).map_err(|e| Failure(e.to_string()))?;
+    for w in &scene.warnings {
+        eprintln!("{w}\n");
+    }
+    Ok(scene)
+}
+
+fn run_render(args: RenderArgs) -> Result<(), Failure> {
+    let start = Instant::now();
+    let mut scene = load_scene(&args.scene)?;
+    let output = args.output.clone().unwrap_or_else(|| {
+        let stem = args.scene.file_stem().unwrap_or_default();
+        PathBuf::from(stem).with_extension("png")
+    });
+    // Fail on the output path before spending the render time.
+    glint::output::Format::from_path(&output).map_err(|e| Failure(format!("error: {e}")))?;
+    apply_size(&mut scene, args.width, args.height)?;
+    if args.verbose {
+        for note in &scene.notes {
+            eprintln!("note: {note}");
+        }
+    }
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    check_memory(w, h)?;
+
+    let bar = if args.quiet || !std::io::stderr().is_terminal() {
+        ProgressBar::hidden()
+    } else {
+        let bar = ProgressBar::with_draw_target(Some(1), ProgressDrawTarget::stderr());
+        if let Ok(style) = ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] [{wide_bar}] {percent:>3}% ETA {eta}",
+        ) {
+            bar.set_style(style.progress_chars("=> "));
+        }
+        bar
+    };
+    let options = RenderOptions {
+        threads: args.threads,
+        seed: args.seed,
+        spp: args.spp,
+    };
+    let (image, stats) = render_with_progress(&scene, &options, &|done, total| {
+        bar.set_length(total);
+        bar.set_position(done);
+    });
+    bar.finish_and_clear();
+    image
+        .save(&output)
+        .map_err(|e| Failure(format!("error: cannot write the image: {e}")))?;
+    if !args.quiet {
+        let r = stats.rays;
+        eprintln!(
+            "{}: {}x{}, {:.2} s wall ({:.2} s render), {:.1} M rays, {:.1} Mrays/s",
+            output.display(),
+            w,
+            h,
+            start.elapsed().as_secs_f64(),
+            stats.elapsed.as_secs_f64(),
+            r.total() as f64 / 1e6,
+            stats.mrays_per_sec()
+        );
+        if args.verbose {
+            eprintln!(
+                "rays: camera {}, reflected {}, refracted {}, shadow {}; {} pixels anti-aliased",
+                r.camera, r.reflected, r.refracted, r.shadow, stats.refined_pixels
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Largest image side accepted, as for the scene's image_W= / image_H=.
+const MAX_SIDE: u32 = 32768;
+
+/// Applies --width/--height; one alone keeps the scene's image aspect.
+fn apply_size(scene: &mut Scene, width: Option<u32>, height: Option<u32>) -> Result<(), Failure> {
+    for (name, v) in [("--width", width), ("--height", height)] {
+        if let Some(v) = v {
+            if v == 0 || v > MAX_SIDE {
+                return Err(Failure(format!(
+                    "error: {name} {v} is out of range: an image side must be 1 to {MAX_SIDE} pixels"
+                )));
+            }
+        }
+    }
+    let cam = &mut scene.camera;
+    let (w0, h0) = (cam.width as f64, cam.height as f64);
+    let scaled = |v: f64| (v.round() as u32).clamp(1, MAX_SIDE);
+    match (width, height) {
+        (Some(w), Some(h)) => (cam.width, cam.height) = (w, h),
+        (Some(w), None) => (cam.width, cam.height) = (w, scaled(w as f64 * h0 / w0)),
+        (None, Some(h)) => (cam.width, cam.height) = (scaled(h as f64 * w0 / h0), h),
+        (None, None) => {}
+    }
+    Ok(())
+}
+
+/// Refuses a size whose buffers would not fit in the memory available now.
+fn check_memory(w: u32, h: u32) -> Result<(), Failure> {
+    let need = memory_needed(w, h);
+    let available = std::fs::read_to_string("/proc/meminfo").ok().and_then(|m| {
+        m.lines()
+            .find(|l| l.starts_with("MemAvailable:"))
+            .and_then(|l| l.split_whitespace().nth(1))
+            .and_then(|kb| kb.parse::<u64>().ok())
+            .map(|kb| kb * 1024)
+    });
+    match available {
+        Some(avail) if need > avail => Err(Failure(format!(
+            "error: a {w}x{h} image needs about {:.1} GiB of memory, but only {:.1} GiB is available",
+            need as f64 / (1u64 << 30) as f64,
+            avail as f64 / (1u64 << 30) as f64
+        ))),
+        _ => Ok(()),
+    }
+}
+
+fn run_probe(args: ProbeArgs) -> Result<(), Failure> {
+    let scene = load_scene(&args.scene)?;
+    let name = args.rays.display().to_string();
+    let mut text = String::new();
+    let read = if name == "-" {
+        std::io::stdin().lock().read_to_string(&mut text)
+    } else {
+        std::fs::File::open(&args.rays).and_then(|mut f| f.read_to_string(&mut text))
+    };
+    read.map_err(|e| Failure(format!("error: cannot read the rays from {name}: {e}")))?;
+
+    // Validate every line before printing anything.
+    let mut rays = Vec::new();
+    let mut errors = Vec::new();
+    for (n, line) in text.as_bytes().lines().enumerate() {
+        let line = line.unwrap_or_default();
+        let body = line.split('#').next().unwrap_or("");
+        if body.trim().is_empty() {
+            continue;
+        }
+        match parse_ray(body) {
+            Ok(r) => rays.push(r),
+            Err(e) => errors.push(format!(
+                "error: {name}:{}:{}: {}",
+                n + 1,
+                e.column,
+                e.message
+            )),
+        }
+    }
+    if !errors.is_empty() {
+        return Err(Failure(errors.join("\n")));
+    }
+
+    let prober = Prober::new(&scene);
+    let lines: Vec<String> = {
+        use rayon::prelude::*;
+        rays.par_chunks(4096)
+            .map(|chunk| {
+                let mut s = String::with_capacity(chunk.len() * 160);
+                for &(o, d) in chunk {
+                    let hit = prober.probe(o, d);
+                    if args.json {
+                        s.push_str(&to_json(hit.as_ref()));
+                    } else {
+                        s.push_str(&glint::probe::to_text(hit.as_ref()));
+                    }
+                    s.push('\n');
+                }
+                s
+            })
+            .collect()
+    };
+    let stdout = std::io::stdout();
+    let mut out = std::io::BufWriter::new(stdout.lock());
+    for chunk in lines {
+        if out.write_all(chunk.as_bytes()).is_err() {
+            return Ok(()); // the reader went away (e.g. `| head`)
+        }
+    }
+    let _ = out.flush();
+    Ok(())
+}

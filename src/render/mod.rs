@@ -52,13 +52,11 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Image {
     render_with_progress(scene, options, &|_, _| {}).0
 }
 
-/// Side of the square tiles the image is cut into for the threads.
-const TILE: u32 = 16;
 /// Sub-pixel grid of the framework's anti-aliasing.
 const AA_GRID: u32 = 7;
 
 /// Renders a scene, calling `progress(done, total)` (in units of camera
-/// rays) as tiles finish; returns the image and the figures.
+/// rays) as rows finish; returns the image and the figures.
 pub fn render_with_progress(
     scene: &Scene,
     options: &RenderOptions,
@@ -84,28 +82,10 @@ pub fn render_with_progress(
     (image, stats)
 }
 
-/// One tile's rectangle, in pixels (y from the top).
-#[derive(Clone, Copy)]
-struct Tile {
-    x0: u32,
-    y0: u32,
-    x1: u32,
-    y1: u32,
-}
-
-fn tiles(w: u32, h: u32) -> Vec<Tile> {
-    let mut v = Vec::new();
-    for y0 in (0..h).step_by(TILE as usize) {
-        for x0 in (0..w).step_by(TILE as usize) {
-            v.push(Tile {
-                x0,
-                y0,
-                x1: (x0 + TILE).min(w),
-                y1: (y0 + TILE).min(h),
-            });
-        }
-    }
-    v
+/// Bytes of memory a render of `width` × `height` pixels holds at its peak
+/// (pixel buffer, hashes, 8-bit copy for encoding), for refusing absurd sizes.
+pub fn memory_needed(width: u32, height: u32) -> u64 {
+    width as u64 * height as u64 * (12 + 4 + 3 + 3)
 }
 
 struct Frame<'a> {
@@ -159,7 +139,6 @@ fn render_inner(
         height: h,
         seed: options.seed,
     };
-    let tiles = tiles(w, h);
     let spp = options.spp.map(|n| n.max(1));
     let per_pixel = spp.unwrap_or(1) as u64;
     let total = AtomicU64::new(w as u64 * h as u64 * per_pixel);
@@ -169,66 +148,72 @@ fn render_inner(
         progress(d, total.load(Ordering::Relaxed));
     };
 
-    // Pass 1: every pixel (stratified samples, or the framework's single ray with its hash).
-    let results: Vec<(Vec<DVec3>, Vec<u64>, RayCounts)> = tiles
-        .par_iter()
-        .map(|t| {
-            let mut colors = Vec::with_capacity(((t.x1 - t.x0) * (t.y1 - t.y0)) as usize);
-            let mut hashes = Vec::with_capacity(colors.capacity());
-            let mut rays = RayCounts::default();
-            for y in t.y0..t.y1 {
-                for x in t.x0..t.x1 {
-                    let (c, hash) = match spp {
-                        Some(n) => (stratified(&frame, x, y, n, &mut rays), 0),
-                        None => {
-                            let mut st = frame.state(x, y, 0);
-                            let mut hash = 0;
-                            let c = frame.sample(x, y, 0.5, 0.5, &mut st, &mut hash);
-                            rays.add(&st.rays);
-                            (c, hash)
-                        }
-                    };
-                    colors.push(c);
-                    hashes.push(hash);
+    // Pass 1, a row per task (rayon steals work, so both cores stay busy to
+    // the end): stratified samples, or the framework's single ray and its hash.
+    let mut pixels = vec![[0f32; 3]; w as usize * h as usize];
+    let mut hashes = vec![0u32; if spp.is_none() { pixels.len() } else { 0 }];
+    let row_rays: Vec<RayCounts> = if spp.is_some() {
+        pixels
+            .par_chunks_mut(w as usize)
+            .enumerate()
+            .map(|(y, row)| {
+                let mut rays = RayCounts::default();
+                for (x, px) in row.iter_mut().enumerate() {
+                    *px = to_f32(stratified(
+                        &frame,
+                        x as u32,
+                        y as u32,
+                        per_pixel as u32,
+                        &mut rays,
+                    ));
                 }
-            }
-            report(colors.len() as u64 * per_pixel);
-            (colors, hashes, rays)
-        })
-        .collect();
-
-    let mut pixels = vec![DVec3::ZERO; (w * h) as usize];
-    let mut hashes = vec![0u64; (w * h) as usize];
+                report(w as u64 * per_pixel);
+                rays
+            })
+            .collect()
+    } else {
+        pixels
+            .par_chunks_mut(w as usize)
+            .zip(hashes.par_chunks_mut(w as usize))
+            .enumerate()
+            .map(|(y, (row, row_hashes))| {
+                let mut rays = RayCounts::default();
+                for (x, (px, hash)) in row.iter_mut().zip(row_hashes).enumerate() {
+                    let mut st = frame.state(x as u32, y as u32, 0);
+                    let mut full = 0u64;
+                    *px = to_f32(frame.sample(x as u32, y as u32, 0.5, 0.5, &mut st, &mut full));
+                    *hash = (full ^ (full >> 32)) as u32;
+                    rays.add(&st.rays);
+                }
+                report(w as u64);
+                rays
+            })
+            .collect()
+    };
     let mut rays = RayCounts::default();
-    for (t, (c, hs, r)) in tiles.iter().zip(&results) {
-        let tw = (t.x1 - t.x0) as usize;
-        for (k, (col, hash)) in c.iter().zip(hs).enumerate() {
-            let idx = (t.y0 as usize + k / tw) * w as usize + t.x0 as usize + k % tw;
-            pixels[idx] = *col;
-            hashes[idx] = *hash;
-        }
-        rays.add(r);
-    }
-    drop(results);
+    row_rays.iter().for_each(|r| rays.add(r));
 
     // Pass 2 (adaptive only): pixels whose hash differs from a 4-neighbour get a 7×7 grid.
     let mut refined = 0u64;
     if spp.is_none() {
-        let edge: Vec<u32> = (0..w * h)
-            .filter(|&p| {
-                let (x, y) = (p % w, p / w);
-                let hh = hashes[p as usize];
-                (x > 0 && hashes[(p - 1) as usize] != hh)
-                    || (x + 1 < w && hashes[(p + 1) as usize] != hh)
-                    || (y > 0 && hashes[(p - w) as usize] != hh)
-                    || (y + 1 < h && hashes[(p + w) as usize] != hh)
-            })
+        let differs = |p: usize| {
+            let (x, y) = ((p % w as usize) as u32, (p / w as usize) as u32);
+            let hh = hashes[p];
+            let wu = w as usize;
+            (x > 0 && hashes[p - 1] != hh)
+                || (x + 1 < w && hashes[p + 1] != hh)
+                || (y > 0 && hashes[p - wu] != hh)
+                || (y + 1 < h && hashes[p + wu] != hh)
+        };
+        let edge: Vec<u32> = (0..pixels.len())
+            .filter(|&p| differs(p))
+            .map(|p| p as u32)
             .collect();
         refined = edge.len() as u64;
         let n = (AA_GRID * AA_GRID) as u64;
         total.fetch_add(refined * n, Ordering::Relaxed);
         let refined_colors: Vec<(DVec3, RayCounts)> = edge
-            .par_chunks(64)
+            .par_chunks(16)
             .flat_map_iter(|chunk| {
                 let out: Vec<(DVec3, RayCounts)> = chunk
                     .iter()
@@ -239,10 +224,8 @@ fn render_inner(
                         for a in 0..AA_GRID {
                             for b in 0..AA_GRID {
                                 let mut st = frame.state(x, y, 1 + a * AA_GRID + b);
-                                let (fx, fy) = (
-                                    (b as f64 + 0.5) / AA_GRID as f64,
-                                    (a as f64 + 0.5) / AA_GRID as f64,
-                                );
+                                let fx = (b as f64 + 0.5) / AA_GRID as f64;
+                                let fy = (a as f64 + 0.5) / AA_GRID as f64;
                                 sum += frame.sample(x, y, fx, fy, &mut st, &mut 0);
                                 rays.add(&st.rays);
                             }
@@ -255,12 +238,16 @@ fn render_inner(
             })
             .collect();
         for (&p, (c, r)) in edge.iter().zip(&refined_colors) {
-            pixels[p as usize] = *c;
+            pixels[p as usize] = to_f32(*c);
             rays.add(r);
         }
     }
-    let image = Image::from_fn(w, h, |x, y| pixels[(y * w + x) as usize]);
-    (image, rays, refined)
+    (Image::from_pixels(w, h, pixels), rays, refined)
+}
+
+#[inline]
+fn to_f32(c: DVec3) -> [f32; 3] {
+    c.as_vec3().to_array()
 }
 
 /// `n` stratified samples in a pixel: exactly its centre for n = 1, else a
