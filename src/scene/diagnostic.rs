@@ -46,19 +46,65 @@ impl fmt::Display for Diagnostic {
             let pad = " ".repeat(num.len());
             writeln!(f, "{pad}--> {}:{}:{}", self.file, self.line, self.column)?;
             writeln!(f, "{pad} |")?;
-            writeln!(f, "{num} | {}", self.source_line)?;
+            // Tabs are shown as spaces so the caret lines up under the span.
+            let (shown, caret_at, caret_len) = excerpt(&self.source_line, self.column, self.len);
+            writeln!(f, "{num} | {shown}")?;
             write!(
                 f,
                 "{pad} | {}{}",
-                " ".repeat(self.column.saturating_sub(1)),
-                "^".repeat(self.len.max(1))
+                " ".repeat(caret_at),
+                "^".repeat(caret_len.max(1))
             )?;
         }
         if let Some(help) = &self.help {
-            write!(f, "\n  = help: {help}")?;
+            let pad = " ".repeat(self.line.max(1).to_string().len());
+            write!(f, "\n{pad} = help: {help}")?;
         }
         Ok(())
     }
+}
+
+/// Tab stops in excerpts.
+const TAB: usize = 4;
+
+/// The line with tabs expanded (and control characters shown as spaces),
+/// plus the display offset and width of the span at 1-based char `column`.
+fn excerpt(line: &str, column: usize, len: usize) -> (String, usize, usize) {
+    let mut shown = String::with_capacity(line.len());
+    let (mut at, mut end) = (None, None);
+    let first = column.saturating_sub(1);
+    let last = first.saturating_add(len.max(1));
+    let mut width = 0;
+    for (i, c) in line.chars().enumerate() {
+        if i == first {
+            at = Some(width);
+        }
+        if i == last {
+            end = Some(width);
+        }
+        if c == '\t' {
+            let n = TAB - width % TAB;
+            shown.extend(std::iter::repeat_n(' ', n));
+            width += n;
+        } else if c.is_control() {
+            shown.push(' ');
+            width += 1;
+        } else {
+            shown.push(c);
+            width += 1;
+        }
+    }
+    // Spans may point just past the end of the line (a missing value).
+    let count = line.chars().count();
+    // Capped so a hand-made diagnostic with an absurd column cannot exhaust memory.
+    let cap = width + 256;
+    let at = at
+        .unwrap_or(width.saturating_add(first.saturating_sub(count)))
+        .min(cap);
+    let end = end
+        .unwrap_or(width.saturating_add(last.saturating_sub(count)))
+        .min(cap);
+    (shown, at, end.saturating_sub(at))
 }
 
 /// Why a scene could not be read: every error found (not only the first),

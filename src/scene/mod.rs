@@ -5,8 +5,11 @@
 //! `primitive TYPE`), each closed by `end`, holding `key= values` lines; see
 //! `docs/format.md` for every key.
 
+mod build;
 mod diagnostic;
+mod lexer;
 mod parser;
+mod suggest;
 
 pub use diagnostic::{Diagnostic, SceneError, Severity};
 

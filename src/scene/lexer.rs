@@ -1,0 +1,183 @@
+//! Splits scene text into lines of words, dropping comments, keeping each
+//! word's column so diagnostics can point at it.
+
+/// One whitespace-separated word of a line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Word<'a> {
+    /// The word's text.
+    pub text: &'a str,
+    /// Byte offset of the word in its line.
+    pub start: usize,
+    /// 1-based column, in characters.
+    pub col: usize,
+    /// Width in characters.
+    pub len: usize,
+}
+
+impl<'a> Word<'a> {
+    /// The part of the word after its first `chars` characters, as a word of
+    /// its own (for `key=value` glued together).
+    pub fn split_off(&self, chars: usize) -> Word<'a> {
+        let byte = self
+            .text
+            .char_indices()
+            .nth(chars)
+            .map_or(self.text.len(), |(i, _)| i);
+        Word {
+            text: &self.text[byte..],
+            start: self.start + byte,
+            col: self.col + chars,
+            len: self.len.saturating_sub(chars),
+        }
+    }
+}
+
+/// One line of the file: its text (without the line break) and its words
+/// before any comment.
+#[derive(Clone, Debug)]
+pub(crate) struct Line<'a> {
+    /// The line's text, for excerpts.
+    pub text: &'a str,
+    /// The words before any comment.
+    pub words: Vec<Word<'a>>,
+}
+
+/// Splits `text` into lines (`\n`, `\r\n` or a lone `\r` end a line).
+pub(crate) fn split_lines(text: &str) -> Vec<&str> {
+    let mut lines = Vec::new();
+    let bytes = text.as_bytes();
+    let mut start = 0;
+    let mut i = 0;
+    while i < bytes.len() {
+        match bytes[i] {
+            b'\n' => {
+                lines.push(&text[start..i]);
+                i += 1;
+                start = i;
+            }
+            b'\r' => {
+                lines.push(&text[start..i]);
+                i += if bytes.get(i + 1) == Some(&b'\n') {
+                    2
+                } else {
+                    1
+                };
+                start = i;
+            }
+            _ => i += 1,
+        }
+    }
+    // A final line without a line break still counts; an empty tail does not.
+    if start < bytes.len() {
+        lines.push(&text[start..]);
+    }
+    lines
+}
+
+/// The words of one line. A comment starts at any `#`, or at `//` at the
+/// start of a word (so a path such as `a//b.bmp` survives).
+pub(crate) fn words(line: &str) -> Vec<Word<'_>> {
+    let mut out = Vec::new();
+    // (byte start, column) of the word being read.
+    let mut current: Option<(usize, usize)> = None;
+    let mut col = 0;
+    let mut chars = line.char_indices().peekable();
+    while let Some((i, c)) = chars.next() {
+        col += 1;
+        let comment = c == '#'
+            || (current.is_none() && c == '/' && chars.peek().map(|&(_, n)| n) == Some('/'));
+        if comment {
+            close(&mut out, line, current, i, col);
+            return out;
+        }
+        if c.is_whitespace() {
+            close(&mut out, line, current.take(), i, col);
+        } else if current.is_none() {
+            current = Some((i, col));
+        }
+    }
+    close(&mut out, line, current, line.len(), col + 1);
+    out
+}
+
+/// Ends the word being read (if any) at byte `end`, column `col`.
+fn close<'a>(
+    out: &mut Vec<Word<'a>>,
+    line: &'a str,
+    cur: Option<(usize, usize)>,
+    end: usize,
+    col: usize,
+) {
+    if let Some((start, c0)) = cur {
+        out.push(Word {
+            text: &line[start..end],
+            start,
+            col: c0,
+            len: col - c0,
+        });
+    }
+}
+
+/// Lexes a whole file (a leading byte-order mark is skipped).
+pub(crate) fn lex(text: &str) -> Vec<Line<'_>> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    split_lines(text)
+        .into_iter()
+        .map(|l| Line {
+            text: l,
+            words: words(l),
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn texts(line: &str) -> Vec<(&str, usize, usize)> {
+        words(line)
+            .into_iter()
+            .map(|w| (w.text, w.col, w.len))
+            .collect()
+    }
+
+    #[test]
+    fn words_and_columns() {
+        assert_eq!(
+            texts("  O= 1 .5\t-2"),
+            vec![("O=", 3, 2), ("1", 6, 1), (".5", 8, 2), ("-2", 11, 2)]
+        );
+        assert_eq!(texts("é= 1"), vec![("é=", 1, 2), ("1", 4, 1)]);
+    }
+
+    #[test]
+    fn comments() {
+        assert_eq!(texts("# all"), vec![]);
+        assert_eq!(
+            texts("N= 0 1 0  # look"),
+            vec![("N=", 1, 2), ("0", 4, 1), ("1", 6, 1), ("0", 8, 1)]
+        );
+        assert_eq!(texts("R= 1#x"), vec![("R=", 1, 2), ("1", 4, 1)]);
+        assert_eq!(texts("// all"), vec![]);
+        assert_eq!(texts("R= 2 // two"), vec![("R=", 1, 2), ("2", 4, 1)]);
+        assert_eq!(
+            texts("texture= a//b.bmp"),
+            vec![("texture=", 1, 8), ("a//b.bmp", 10, 8)]
+        );
+    }
+
+    #[test]
+    fn line_breaks() {
+        assert_eq!(split_lines("a\r\nb\rc\nd"), vec!["a", "b", "c", "d"]);
+        assert_eq!(split_lines("a\n"), vec!["a"]);
+        assert_eq!(split_lines("a\n\n"), vec!["a", ""]);
+        assert_eq!(split_lines(""), Vec::<&str>::new());
+    }
+
+    #[test]
+    fn split_off() {
+        let w = words("color=1")[0];
+        let v = w.split_off(6);
+        assert_eq!((v.text, v.col, v.len, v.start), ("1", 7, 1, 6));
+    }
+}
