@@ -292,3 +292,33 @@ fn same_seed_same_bytes_whatever_the_threads() {
         );
     }
 }
+
+/// Every framework scene renders (at a reduced size) to a picture with
+/// content: finite values, many distinct colours, not just the background.
+#[test]
+fn framework_scenes_render() {
+    let dir = std::path::Path::new("../shared/scenes/framework");
+    let mut count = 0;
+    for entry in std::fs::read_dir(dir).expect("../shared/scenes/framework is beside the repository") {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|e| e != "txt") {
+            continue;
+        }
+        let mut s = Scene::from_file(&path).unwrap_or_else(|e| panic!("{e}"));
+        s.camera.width /= 8;
+        s.camera.height /= 8;
+        let img = render(&s, &RenderOptions::default());
+        let bytes = img.to_rgb8();
+        let mut colours: Vec<&[u8]> = bytes.chunks(3).collect();
+        colours.sort();
+        colours.dedup();
+        assert!(colours.len() > 200, "{}: only {} colours", path.display(), colours.len());
+        for y in 0..img.height() {
+            for x in 0..img.width() {
+                assert!(img.pixel(x, y).iter().all(|c| c.is_finite() && *c >= 0.0));
+            }
+        }
+        count += 1;
+    }
+    assert!(count >= 2, "found {count} framework scenes");
+}
