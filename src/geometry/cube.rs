@@ -4,6 +4,9 @@ use super::{Aabb, Hit, Ray, SurfacePoint};
 use glam::{DVec2, DVec3};
 
 /// A box centred at `center` with orthonormal axes and half-lengths.
+///
+/// A hit's `part` is the face: `2·axis` for the face whose outward normal is
+/// `+axes[axis]`, `2·axis + 1` for `−axes[axis]`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Cube {
     /// Centre.
@@ -15,27 +18,112 @@ pub struct Cube {
 }
 
 impl Cube {
-    /// A box from orthonormal `dx`, `dy` (the caller orthonormalises) and half-lengths.
+    /// A box from orthonormal `dx`, `dy` (the caller orthonormalises) and
+    /// half-lengths (their absolute values are used).
     pub fn new(center: DVec3, dx: DVec3, dy: DVec3, half: DVec3) -> Self {
         Cube {
             center,
             axes: [dx, dy, dx.cross(dy)],
-            half,
+            half: half.abs(),
         }
     }
 
-    /// The nearest hit with `t_min < t < t_max`.
-    pub fn intersect(&self, _ray: &Ray, _t_min: f64, _t_max: f64) -> Option<Hit> {
-        None
+    /// `v` in the box's frame (coordinates along Dx, Dy, Dz).
+    #[inline]
+    fn to_local(&self, v: DVec3) -> [f64; 3] {
+        [
+            v.dot(self.axes[0]),
+            v.dot(self.axes[1]),
+            v.dot(self.axes[2]),
+        ]
     }
 
-    /// Point, outward normal and texture coordinates at a hit.
+    /// The nearest hit with `t_min < t < t_max`: the entry face from
+    /// outside, the exit face from inside; `part` is the face.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
+        let o = self.to_local(ray.origin - self.center);
+        let d = self.to_local(ray.dir);
+        let h = self.half.to_array();
+        // Slab test, keeping which axis bounds the interval on each side.
+        let (mut t_near, mut t_far) = (f64::NEG_INFINITY, f64::INFINITY);
+        let (mut near_part, mut far_part) = (0, 0);
+        for i in 0..3 {
+            if d[i] == 0.0 {
+                // Parallel to this slab: no constraint inside it, a miss outside
+                // (tested explicitly, as 0·∞ would give NaN).
+                if o[i].abs() > h[i] {
+                    return None;
+                }
+                continue;
+            }
+            let inv = 1.0 / d[i];
+            let (ta, tb) = ((-h[i] - o[i]) * inv, (h[i] - o[i]) * inv);
+            // Entering through the face that faces the ray, leaving through the other.
+            let (near, far, near_face, far_face) = if d[i] > 0.0 {
+                (ta, tb, 2 * i + 1, 2 * i)
+            } else {
+                (tb, ta, 2 * i, 2 * i + 1)
+            };
+            if near > t_near {
+                t_near = near;
+                near_part = near_face;
+            }
+            if far < t_far {
+                t_far = far;
+                far_part = far_face;
+            }
+        }
+        if t_near > t_far {
+            return None;
+        }
+        if t_near > t_min && t_near < t_max {
+            Some(Hit {
+                t: t_near,
+                part: near_part as u32,
+                ..Hit::default()
+            })
+        } else if t_far > t_min && t_far < t_max {
+            Some(Hit {
+                t: t_far,
+                part: far_part as u32,
+                ..Hit::default()
+            })
+        } else {
+            None
+        }
+    }
+
+    /// Point (on the face), outward normal and the face's texture coordinates at a hit.
     pub fn surface(&self, ray: &Ray, hit: &Hit) -> SurfacePoint {
+        let axis = (hit.part as usize / 2).min(2);
+        let sign = if hit.part.is_multiple_of(2) {
+            1.0
+        } else {
+            -1.0
+        };
+        let h = self.half.to_array();
+        let mut l = self.to_local(ray.at(hit.t) - self.center);
+        for i in 0..3 {
+            // max/min rather than clamp: never panics, even on a malformed box.
+            l[i] = l[i].max(-h[i]).min(h[i]);
+        }
+        // Snap onto the face plane: removes the rounding of o + t·d.
+        l[axis] = sign * h[axis];
+        let point = self.center + self.axes[0] * l[0] + self.axes[1] * l[1] + self.axes[2] * l[2];
+        let normal = self.axes[axis] * sign;
+        // The spec's per-face (Dx, Dy) pairs: ±Dz faces use (x, y), ±Dx faces
+        // (y, z), ±Dy faces (z, x); each face is mapped like a square.
+        let (iu, iv) = match axis {
+            0 => (1, 2),
+            1 => (2, 0),
+            _ => (0, 1),
+        };
         SurfacePoint {
-            point: ray.at(hit.t),
-            normal: self.axes[2],
-            shading_normal: self.axes[2],
-            uv: DVec2::ZERO,
+            point,
+            normal,
+            shading_normal: normal,
+            uv: DVec2::new(square_coord(l[iu], h[iu]), square_coord(l[iv], h[iv])),
         }
     }
 
@@ -46,4 +134,10 @@ impl Cube {
             + (self.axes[2] * self.half.z).abs();
         Aabb::from_points(self.center - e, self.center + e)
     }
+}
+
+/// The square texture coordinate of local coordinate `l` on an edge of
+/// half-length `h`: 0 at −h, 1 at +h (1/2 on a flat, zero-length edge).
+fn square_coord(l: f64, h: f64) -> f64 {
+    if h > 0.0 { l / h / 2.0 + 0.5 } else { 0.5 }
 }

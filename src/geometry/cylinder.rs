@@ -1,9 +1,23 @@
 //! Closed cylinders: `primitive cylinder` (`O1= O2= R=`).
 
-use super::{Aabb, Hit, Ray, SurfacePoint};
+use super::{Aabb, Hit, Ray, SurfacePoint, angle_around, axis_frame};
 use glam::{DVec2, DVec3};
+use std::f64::consts::TAU;
+
+/// `Hit::part` of a hit on the side surface.
+const SIDE: u32 = 0;
+/// `Hit::part` of a hit on the cap at O1.
+const CAP1: u32 = 1;
+/// `Hit::part` of a hit on the cap at O2.
+const CAP2: u32 = 2;
+
+/// Below this |d⊥|² the ray counts as parallel to the axis: its distance
+/// from the axis then changes by less than 1e-15 per unit travelled.
+const PARALLEL_D2: f64 = 1e-30;
 
 /// A closed cylinder: side surface plus discs at both ends.
+///
+/// A hit's `part` is 0 for the side, 1 for the cap at O1, 2 for the cap at O2.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Cylinder {
     /// Centre of the first cap.
@@ -12,33 +26,167 @@ pub struct Cylinder {
     pub o2: DVec3,
     /// Radius (> 0).
     pub radius: f64,
+    /// Unit axis O1 → O2.
+    axis: DVec3,
+    /// |O2 − O1|.
+    length: f64,
+    /// The spec's angular frame around the axis ([`axis_frame`]).
+    e1: DVec3,
+    e2: DVec3,
 }
 
 impl Cylinder {
-    /// A cylinder from the spec's keys (O1 ≠ O2, R > 0).
+    /// A cylinder from the spec's keys (O1 ≠ O2, R > 0; a degenerate one is
+    /// never hit).
     pub fn new(o1: DVec3, o2: DVec3, radius: f64) -> Self {
-        Cylinder { o1, o2, radius }
-    }
-
-    /// The nearest hit with `t_min < t < t_max`.
-    pub fn intersect(&self, _ray: &Ray, _t_min: f64, _t_max: f64) -> Option<Hit> {
-        None
-    }
-
-    /// Point, outward normal and texture coordinates at a hit.
-    pub fn surface(&self, ray: &Ray, hit: &Hit) -> SurfacePoint {
-        SurfacePoint {
-            point: ray.at(hit.t),
-            normal: DVec3::Z,
-            shading_normal: DVec3::Z,
-            uv: DVec2::ZERO,
+        let length = (o2 - o1).length();
+        let axis = if length > 0.0 {
+            (o2 - o1) / length
+        } else {
+            DVec3::Z
+        };
+        let (e1, e2) = axis_frame(axis);
+        Cylinder {
+            o1,
+            o2,
+            radius,
+            axis,
+            length,
+            e1,
+            e2,
         }
     }
 
-    /// Bounds.
+    /// The nearest hit with `t_min < t < t_max`: the entry point from
+    /// outside, the exit point from inside; `part` says side or which cap.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
+        if !(self.length > 0.0 && self.radius > 0.0) {
+            return None;
+        }
+        // The solid is the intersection of the slab between the cap planes and
+        // the infinite cylinder: intersect their two intervals along the ray
+        // (like a box's slabs), so the rim has no crack between side and cap.
+        let s = ray.origin - self.o1;
+        let (sa, da) = (s.dot(self.axis), ray.dir.dot(self.axis));
+        let (mut t_near, mut t_far, mut near_part, mut far_part);
+        if da == 0.0 {
+            if sa < 0.0 || sa > self.length {
+                return None;
+            }
+            (t_near, t_far) = (f64::NEG_INFINITY, f64::INFINITY);
+            (near_part, far_part) = (CAP1, CAP1);
+        } else {
+            let inv = 1.0 / da;
+            let (t1, t2) = (-sa * inv, (self.length - sa) * inv);
+            (t_near, t_far, near_part, far_part) = if da > 0.0 {
+                (t1, t2, CAP1, CAP2)
+            } else {
+                (t2, t1, CAP2, CAP1)
+            };
+        }
+        // Side: |s⊥ + t·d⊥|² = R², solved in the form of Sphere::roots that
+        // stays exact for rays far from or nearly along the axis.
+        let r2 = self.radius * self.radius;
+        let sp = s - self.axis * sa;
+        let dp = ray.dir - self.axis * da;
+        let a = dp.length_squared();
+        if a <= PARALLEL_D2 {
+            if sp.length_squared() > r2 {
+                return None;
+            }
+        } else {
+            let b = sp.dot(dp);
+            let perp = sp - dp * (b / a);
+            let disc = r2 - perp.length_squared();
+            if disc < 0.0 || disc.is_nan() {
+                return None;
+            }
+            let c = sp.length_squared() - r2;
+            let q = -b - (a * disc).sqrt().copysign(b);
+            let (r0, r1) = if q == 0.0 {
+                (0.0, 0.0)
+            } else {
+                let (x, y) = (c / q, q / a);
+                if x <= y { (x, y) } else { (y, x) }
+            };
+            if r0 > t_near {
+                t_near = r0;
+                near_part = SIDE;
+            }
+            if r1 < t_far {
+                t_far = r1;
+                far_part = SIDE;
+            }
+        }
+        if t_near > t_far {
+            return None;
+        }
+        if t_near > t_min && t_near < t_max {
+            Some(Hit {
+                t: t_near,
+                part: near_part,
+                ..Hit::default()
+            })
+        } else if t_far > t_min && t_far < t_max {
+            Some(Hit {
+                t: t_far,
+                part: far_part,
+                ..Hit::default()
+            })
+        } else {
+            None
+        }
+    }
+
+    /// Point (on the surface), outward normal and texture coordinates at a hit.
+    pub fn surface(&self, ray: &Ray, hit: &Hit) -> SurfacePoint {
+        let q = ray.at(hit.t) - self.o1;
+        let z = q.dot(self.axis);
+        let radial = q - self.axis * z;
+        let (point, normal, uv) = match hit.part {
+            SIDE => {
+                let rl = radial.length();
+                let n = if rl > 0.0 { radial / rl } else { self.e1 };
+                let z = z.max(0.0).min(self.length);
+                // Snap onto the side: removes the rounding of o + t·d.
+                let point = self.o1 + self.axis * z + n * self.radius;
+                let uv = DVec2::new(z / self.length, angle_around(n, self.e1, self.e2) / TAU);
+                (point, n, uv)
+            }
+            part => {
+                let (center, n) = if part == CAP1 {
+                    (self.o1, -self.axis)
+                } else {
+                    (self.o2, self.axis)
+                };
+                let rl = radial.length();
+                let r = if rl > self.radius {
+                    radial * (self.radius / rl)
+                } else {
+                    radial
+                };
+                let uv = DVec2::new(
+                    0.5 + r.dot(self.e1) / (2.0 * self.radius),
+                    0.5 + r.dot(self.e2) / (2.0 * self.radius),
+                );
+                (center + r, n, uv)
+            }
+        };
+        SurfacePoint {
+            point,
+            normal,
+            shading_normal: normal,
+            uv,
+        }
+    }
+
+    /// Bounds (tight: the caps' discs extend R·√(1 − a_i²) along world axis i).
     pub fn bounds(&self) -> Aabb {
-        let r = DVec3::splat(self.radius);
-        Aabb::from_points(self.o1 - r, self.o1 + r)
-            .union(&Aabb::from_points(self.o2 - r, self.o2 + r))
+        let a2 = self.axis * self.axis;
+        // The 1e-9 pad keeps the box conservative despite the rounding of the root.
+        let e = (DVec3::ONE - a2).max(DVec3::ZERO).powf(0.5) * (self.radius * (1.0 + 1e-9));
+        Aabb::from_points(self.o1 - e, self.o1 + e)
+            .union(&Aabb::from_points(self.o2 - e, self.o2 + e))
     }
 }

@@ -3,6 +3,11 @@
 use super::{Aabb, Hit, Ray, SurfacePoint};
 use glam::{DVec2, DVec3};
 
+/// How far past its edges (in units of the half-edge vectors) a square still
+/// counts as hit: squares that share an edge, each rounding its own hit
+/// point, could otherwise both miss a ray through that edge (a crack).
+const SQUARE_EDGE_SLACK: f64 = 1e-9;
+
 /// The parallelogram O ± Dx ± Dy, two-sided, normal unit(Dx × Dy).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Square {
@@ -20,7 +25,8 @@ pub struct Square {
 }
 
 impl Square {
-    /// A square from the spec's keys; Dx and Dy must not be parallel.
+    /// A square from the spec's keys; Dx and Dy must not be parallel (a
+    /// degenerate square is never hit).
     pub fn new(center: DVec3, dx: DVec3, dy: DVec3) -> Self {
         let n = dx.cross(dy);
         let normal = n.normalize();
@@ -37,20 +43,20 @@ impl Square {
     }
 
     /// The hit with `t_min < t < t_max`, if any; `u`, `v` hold the
-    /// parallelogram coordinates in [−1, 1].
+    /// parallelogram coordinates (a, b) with P = O + a·Dx + b·Dy, |a|, |b| ≤ 1
+    /// up to a slack of 1e-9 that keeps shared edges crack-free.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
-        let denom = self.normal.dot(ray.dir);
-        if denom == 0.0 {
-            return None;
-        }
-        let t = (self.center - ray.origin).dot(self.normal) / denom;
+        let s = self.center - ray.origin;
+        // A ray parallel to the plane gives ±∞ or NaN here, which the range test rejects.
+        let t = s.dot(self.normal) / self.normal.dot(ray.dir);
         if !(t > t_min && t < t_max) {
             return None;
         }
-        let q = ray.at(t) - self.center;
+        let q = ray.dir * t - s;
         let (a, b) = (q.dot(self.ax), q.dot(self.ay));
-        (a.abs() <= 1.0 && b.abs() <= 1.0).then_some(Hit {
+        const LIMIT: f64 = 1.0 + SQUARE_EDGE_SLACK;
+        (a.abs() <= LIMIT && b.abs() <= LIMIT).then_some(Hit {
             t,
             part: 0,
             u: a,
@@ -58,12 +64,12 @@ impl Square {
         })
     }
 
-    /// Point, normal and texture coordinates at a hit.
+    /// Point (on the closed parallelogram), normal and texture coordinates at a hit.
     pub fn surface(&self, _ray: &Ray, hit: &Hit) -> SurfacePoint {
-        let point = self.center + self.dx * hit.u + self.dy * hit.v;
-        let q = point - self.center;
+        let (a, b) = (hit.u.clamp(-1.0, 1.0), hit.v.clamp(-1.0, 1.0));
+        let q = self.dx * a + self.dy * b;
         SurfacePoint {
-            point,
+            point: self.center + q,
             normal: self.normal,
             shading_normal: self.normal,
             uv: DVec2::new(

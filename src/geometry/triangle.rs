@@ -1,65 +1,112 @@
 //! Triangles: `primitive triangle` (`O1= O2= O3=`) and OBJ meshes (`primitive mesh`).
 
 use super::{Aabb, Hit, Ray, SurfacePoint};
-use glam::{DVec2, DVec3};
+use glam::{DMat3, DVec2, DVec3};
+use std::fs::File;
+use std::io::BufReader;
 use std::path::Path;
 
 /// A triangle, with per-vertex normals when it comes from a smooth mesh.
+///
+/// The vertices are kept as given (not as edge vectors) so that triangles
+/// sharing a vertex see bit-identical coordinates: with the watertight test
+/// in [`Triangle::intersect`] a mesh then has no cracks along its edges.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Triangle {
-    /// First vertex.
-    pub p0: DVec3,
-    /// Edge p1 − p0.
-    pub e1: DVec3,
-    /// Edge p2 − p0.
-    pub e2: DVec3,
-    /// Unit vertex normals, when the mesh has them.
-    pub normals: Option<[DVec3; 3]>,
+    /// The three vertices; the outward normal is unit((v1 − v0) × (v2 − v0)).
+    pub vertices: [DVec3; 3],
+    /// Unit vertex normals, when the mesh has them (boxed: most triangles
+    /// have none, and meshes hold up to millions of triangles).
+    pub normals: Option<Box<[DVec3; 3]>>,
 }
 
 impl Triangle {
-    /// A triangle from three vertices (not collinear).
+    /// A triangle from three vertices (not collinear: a degenerate triangle is
+    /// never hit) and optional unit vertex normals.
     pub fn new(a: DVec3, b: DVec3, c: DVec3, normals: Option<[DVec3; 3]>) -> Self {
         Triangle {
-            p0: a,
-            e1: b - a,
-            e2: c - a,
-            normals,
+            vertices: [a, b, c],
+            normals: normals.map(Box::new),
         }
     }
 
-    /// The hit with `t_min < t < t_max` (Möller–Trumbore); `u`, `v` are the
+    /// Twice the area, |(v1 − v0) × (v2 − v0)| (0 for a degenerate triangle).
+    pub fn double_area(&self) -> f64 {
+        let [a, b, c] = self.vertices;
+        (b - a).cross(c - a).length()
+    }
+
+    /// The hit with `t_min < t < t_max`, two-sided; `u`, `v` are the
     /// barycentric weights of the second and third vertex.
+    ///
+    /// Watertight (Woop, Benthin, Wald 2013): a ray through a shared edge or
+    /// vertex of a mesh hits at least one of the triangles around it.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
-        let p = ray.dir.cross(self.e2);
-        let det = self.e1.dot(p);
+        let ad = ray.dir.abs();
+        if ad.x >= ad.y && ad.x >= ad.z {
+            self.intersect_along::<0>(ray, t_min, t_max)
+        } else if ad.y >= ad.z {
+            self.intersect_along::<1>(ray, t_min, t_max)
+        } else {
+            self.intersect_along::<2>(ray, t_min, t_max)
+        }
+    }
+
+    /// The watertight test with axis `KZ` (the ray's dominant one) as depth.
+    #[inline(always)]
+    fn intersect_along<const KZ: usize>(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
+        // Cyclic permutation putting axis KZ last (keeps the handedness).
+        let perm = |v: DVec3| match KZ {
+            0 => DVec3::new(v.y, v.z, v.x),
+            1 => DVec3::new(v.z, v.x, v.y),
+            _ => v,
+        };
+        let d = perm(ray.dir);
+        let sz = 1.0 / d.z;
+        let (sx, sy) = (d.x * sz, d.y * sz);
+        let a = perm(self.vertices[0] - ray.origin);
+        let b = perm(self.vertices[1] - ray.origin);
+        let c = perm(self.vertices[2] - ray.origin);
+        // Shear so the ray runs along +z from the origin; vertices shared by two
+        // triangles are transformed by the same operations, bit for bit.
+        let (ax, ay) = (a.x - sx * a.z, a.y - sy * a.z);
+        let (bx, by) = (b.x - sx * b.z, b.y - sy * b.z);
+        let (cx, cy) = (c.x - sx * c.z, c.y - sy * c.z);
+        // Edge functions: a shared edge gives exactly opposite values in its
+        // two triangles (fl(p − q) = −fl(q − p)), so no ray slips between them.
+        let u = cx * by - cy * bx;
+        let v = ax * cy - ay * cx;
+        let w = bx * ay - by * ax;
+        if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+            return None;
+        }
+        let det = u + v + w;
         if det == 0.0 {
             return None;
         }
-        let inv = 1.0 / det;
-        let s = ray.origin - self.p0;
-        let u = s.dot(p) * inv;
-        if !(0.0..=1.0).contains(&u) {
-            return None;
-        }
-        let q = s.cross(self.e1);
-        let v = ray.dir.dot(q) * inv;
-        if v < 0.0 || u + v > 1.0 {
-            return None;
-        }
-        let t = self.e2.dot(q) * inv;
-        (t > t_min && t < t_max).then_some(Hit { t, part: 0, u, v })
+        let t = (u * a.z + v * b.z + w * c.z) * sz / det;
+        (t > t_min && t < t_max).then(|| Hit {
+            t,
+            part: 0,
+            u: v / det,
+            v: w / det,
+        })
     }
 
-    /// Point, normals and barycentric texture coordinates at a hit.
-    pub fn surface(&self, _ray: &Ray, hit: &Hit) -> SurfacePoint {
-        let point = self.p0 + self.e1 * hit.u + self.e2 * hit.v;
-        let normal = self.e1.cross(self.e2).normalize();
-        let shading_normal = match self.normals {
-            Some([a, b, c]) => {
-                let n = (a * (1.0 - hit.u - hit.v) + b * hit.u + c * hit.v).normalize_or_zero();
-                if n == DVec3::ZERO { normal } else { n }
+    /// Point, normals and barycentric texture coordinates (u, v) at a hit.
+    pub fn surface(&self, ray: &Ray, hit: &Hit) -> SurfacePoint {
+        let [a, b, c] = self.vertices;
+        let w = 1.0 - hit.u - hit.v;
+        let point = a * w + b * hit.u + c * hit.v;
+        let n = (b - a).cross(c - a).normalize_or_zero();
+        // A degenerate triangle has no normal; facing the ray keeps shading finite.
+        let normal = if n == DVec3::ZERO { -ray.dir } else { n };
+        let shading_normal = match &self.normals {
+            Some(ns) => {
+                let [na, nb, nc] = **ns;
+                let s = (na * w + nb * hit.u + nc * hit.v).normalize_or_zero();
+                if s == DVec3::ZERO { normal } else { s }
             }
             None => normal,
         };
@@ -73,17 +120,113 @@ impl Triangle {
 
     /// Bounds.
     pub fn bounds(&self) -> Aabb {
-        Aabb::from_points(self.p0, self.p0 + self.e1).grow(self.p0 + self.e2)
+        let [a, b, c] = self.vertices;
+        Aabb::from_points(a, b).grow(c)
     }
 }
 
-/// Loads an OBJ file as triangles, scaled, rotated (Euler angles in radians
-/// about x, then y, then z) and translated.
+/// Loads every model of an OBJ file as triangles (polygons are triangulated),
+/// each vertex P placed at `origin + R·(scale ⊙ P)` with
+/// R = Rz(rotation.z)·Ry(rotation.y)·Rx(rotation.x): scaled per axis, then
+/// rotated about the fixed x axis, then y, then z (radians), then translated.
+///
+/// OBJ vertex normals are kept (transformed by the inverse transpose of the
+/// scale and rotation, normalised), and a triangle whose winding disagrees
+/// with them is flipped so its geometric normal points the same way; a
+/// mirroring scale keeps the winding's outward side. Zero-area triangles are
+/// skipped. Errors (unreadable file, bad OBJ, no triangle) are returned as
+/// a message naming the file.
 pub fn load_obj(
-    _path: &Path,
-    _origin: DVec3,
-    _scale: DVec3,
-    _rotation: DVec3,
+    path: &Path,
+    origin: DVec3,
+    scale: DVec3,
+    rotation: DVec3,
 ) -> Result<Vec<Triangle>, String> {
-    Err("meshes are not supported yet".to_string())
+    let name = path.display();
+    let file = File::open(path).map_err(|e| format!("cannot open mesh file {name}: {e}"))?;
+    let options = tobj::LoadOptions {
+        triangulate: true,
+        single_index: false,
+        ignore_points: true,
+        ignore_lines: true,
+    };
+    // Materials are not used: never read the MTL files an OBJ names.
+    let (models, _) = tobj::load_obj_buf(&mut BufReader::new(file), &options, |_| {
+        Err(tobj::LoadError::GenericFailure)
+    })
+    .map_err(|e| format!("cannot read mesh file {name}: {e}"))?;
+
+    let rot = DMat3::from_rotation_z(rotation.z)
+        * DMat3::from_rotation_y(rotation.y)
+        * DMat3::from_rotation_x(rotation.x);
+    // Normals transform by (R·S)⁻ᵀ = R·S⁻¹ ∝ R·cof(S); the cofactor form stays
+    // finite for a flattening scale, and sign(det S) keeps the orientation.
+    let det = scale.x * scale.y * scale.z;
+    let mirrored = det < 0.0;
+    let cofactor = DVec3::new(scale.y * scale.z, scale.x * scale.z, scale.x * scale.y)
+        * if mirrored { -1.0 } else { 1.0 };
+    let place = |p: DVec3| origin + rot * (scale * p);
+    let turn = |n: DVec3| (rot * (cofactor * n)).normalize_or_zero();
+
+    let mut triangles = Vec::new();
+    for model in &models {
+        let mesh = &model.mesh;
+        let position = |i: u32| -> Option<DVec3> {
+            let i = i as usize * 3;
+            let p = mesh.positions.get(i..i + 3)?;
+            Some(DVec3::new(p[0].into(), p[1].into(), p[2].into()))
+        };
+        let normal = |i: u32| -> Option<DVec3> {
+            let i = i as usize * 3;
+            let n = mesh.normals.get(i..i + 3)?;
+            Some(DVec3::new(n[0].into(), n[1].into(), n[2].into()))
+        };
+        let has_normals =
+            !mesh.normals.is_empty() && mesh.normal_indices.len() == mesh.indices.len();
+        triangles.reserve(mesh.indices.len() / 3);
+        for (k, face) in mesh.indices.chunks_exact(3).enumerate() {
+            let (Some(a), Some(b), Some(c)) =
+                (position(face[0]), position(face[1]), position(face[2]))
+            else {
+                return Err(format!(
+                    "mesh file {name}: triangle {} of object '{}' refers to a missing vertex",
+                    k + 1,
+                    model.name
+                ));
+            };
+            let mut v = [place(a), place(b), place(c)];
+            let cross = (v[1] - v[0]).cross(v[2] - v[0]);
+            if !(cross.length_squared() > 0.0 && cross.is_finite()) {
+                continue;
+            }
+            let mut normals = if has_normals {
+                // invariant: has_normals means normal_indices is as long as indices.
+                let ni = &mesh.normal_indices[3 * k..3 * k + 3];
+                match (normal(ni[0]), normal(ni[1]), normal(ni[2])) {
+                    (Some(na), Some(nb), Some(nc)) => {
+                        let n = [turn(na), turn(nb), turn(nc)];
+                        n.iter().all(|n| *n != DVec3::ZERO).then_some(n)
+                    }
+                    _ => None,
+                }
+            } else {
+                None
+            };
+            let flip = match &normals {
+                Some(n) => (n[0] + n[1] + n[2]).dot(cross) < 0.0,
+                None => mirrored,
+            };
+            if flip {
+                v.swap(1, 2);
+                if let Some(n) = normals.as_mut() {
+                    n.swap(1, 2);
+                }
+            }
+            triangles.push(Triangle::new(v[0], v[1], v[2], normals));
+        }
+    }
+    if triangles.is_empty() {
+        return Err(format!("mesh file {name} holds no triangle"));
+    }
+    Ok(triangles)
 }
