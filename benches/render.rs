@@ -13,7 +13,9 @@ fn scene1(c: &mut Criterion) {
         return;
     };
     let mut group = c.benchmark_group("render");
-    group.sample_size(10).measurement_time(Duration::from_secs(30));
+    group
+        .sample_size(10)
+        .measurement_time(Duration::from_secs(30));
     group.bench_function("scene1 1280x760 adaptive", |b| {
         b.iter(|| {
             let (_, stats) = render_with_progress(&scene, &RenderOptions::default(), &|_, _| {});

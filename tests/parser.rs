@@ -375,7 +375,7 @@ fn triangle_keys() {
     let Shape::Triangle(t) = &s.objects[0].shape else {
         panic!("not a triangle")
     };
-    assert_eq!((t.p0, t.e1, t.e2), (DVec3::ZERO, DVec3::X, DVec3::Y));
+    assert_eq!(t.vertices, [DVec3::ZERO, DVec3::X, DVec3::Y]);
     assert_eq!(t.normals, None);
 }
 
@@ -950,7 +950,7 @@ end";
             let Shape::Triangle(t) = &s.objects[1].shape else {
                 panic!("not a triangle")
             };
-            let mut corners = [t.p0, t.p0 + t.e1, t.p0 + t.e2].map(|p| p.to_array());
+            let mut corners = t.vertices.map(|p| p.to_array());
             corners.sort_by(|a, b| a.partial_cmp(b).unwrap());
             let want = [[10.0, 20.0, 30.0], [10.0, 23.0, 30.0], [12.0, 20.0, 30.0]];
             assert_eq!(corners, want);

@@ -299,7 +299,9 @@ fn same_seed_same_bytes_whatever_the_threads() {
 fn framework_scenes_render() {
     let dir = std::path::Path::new("../shared/scenes/framework");
     let mut count = 0;
-    for entry in std::fs::read_dir(dir).expect("../shared/scenes/framework is beside the repository") {
+    for entry in
+        std::fs::read_dir(dir).expect("../shared/scenes/framework is beside the repository")
+    {
         let path = entry.unwrap().path();
         if path.extension().is_none_or(|e| e != "txt") {
             continue;
@@ -312,7 +314,12 @@ fn framework_scenes_render() {
         let mut colours: Vec<&[u8]> = bytes.chunks(3).collect();
         colours.sort();
         colours.dedup();
-        assert!(colours.len() > 200, "{}: only {} colours", path.display(), colours.len());
+        assert!(
+            colours.len() > 200,
+            "{}: only {} colours",
+            path.display(),
+            colours.len()
+        );
         for y in 0..img.height() {
             for x in 0..img.width() {
                 assert!(img.pixel(x, y).iter().all(|c| c.is_finite() && *c >= 0.0));

@@ -165,12 +165,12 @@ const MAX_SIDE: u32 = 32768;
 /// Applies --width/--height; one alone keeps the scene's image aspect.
 fn apply_size(scene: &mut Scene, width: Option<u32>, height: Option<u32>) -> Result<(), Failure> {
     for (name, v) in [("--width", width), ("--height", height)] {
-        if let Some(v) = v {
-            if v == 0 || v > MAX_SIDE {
-                return Err(Failure(format!(
-                    "error: {name} {v} is out of range: an image side must be 1 to {MAX_SIDE} pixels"
-                )));
-            }
+        if let Some(v) = v
+            && (v == 0 || v > MAX_SIDE)
+        {
+            return Err(Failure(format!(
+                "error: {name} {v} is out of range: an image side must be 1 to {MAX_SIDE} pixels"
+            )));
         }
     }
     let cam = &mut scene.camera;

@@ -10,7 +10,9 @@ use rand_pcg::Pcg32;
 
 /// A ray of this depth returns black (the camera ray has depth 1).
 pub const MAX_DEPTH: u32 = 10;
-/// Glossy reflections are averaged over many rays up to this depth, one ray deeper.
+/// Glossy reflections are averaged over many rays up to this depth, one ray
+/// deeper; each glossy ray also counts this many levels (the framework's
+/// `MAX_DREFL_DEP`), so a glossy surface seen in a glossy reflection takes one ray.
 const GLOSSY_AVERAGE_DEPTH: u32 = 2;
 
 /// Rays traced, by kind.
@@ -151,11 +153,14 @@ impl<'a> Tracer<'a> {
             }
         }
 
-        if depth < MAX_DEPTH && m.refl > 0.0 {
+        // A ray deeper than MAX_DEPTH would return black: it is not traced.
+        let glossy = m.drefl > 0.0;
+        let reflected_depth = depth + if glossy { GLOSSY_AVERAGE_DEPTH } else { 1 };
+        if m.refl > 0.0 && reflected_depth <= MAX_DEPTH {
             let mirror = reflect(ray.dir, n);
             let origin = offset_origin(point, side);
             let weight = m.color * m.refl;
-            if m.drefl <= 0.0 {
+            if !glossy {
                 st.rays.reflected += 1;
                 color += self.trace(
                     &Ray::new(origin, mirror),
@@ -174,7 +179,7 @@ impl<'a> Tracer<'a> {
                 for _ in 0..samples {
                     let dir = glossy_direction(mirror, side, a1, a2, m.drefl, &mut st.rng);
                     st.rays.reflected += 1;
-                    sum += self.trace(&Ray::new(origin, dir), depth + 1, st, None);
+                    sum += self.trace(&Ray::new(origin, dir), reflected_depth, st, None);
                 }
                 color += sum / samples as f64 * weight;
             }
@@ -187,7 +192,7 @@ impl<'a> Tracer<'a> {
                 None => (reflect(ray.dir, n), offset_origin(point, side)),
             };
             st.rays.refracted += 1;
-            let c = self.trace(&Ray::new(origin, dir), depth + 1, st, hash.as_deref_mut());
+            let c = self.trace(&Ray::new(origin, dir), depth + 1, st, hash);
             let weight = if front {
                 DVec3::splat(m.refr)
             } else {

@@ -88,7 +88,7 @@ pub fn shade_factor(
 pub fn strata(n: u32) -> (u32, u32) {
     let n = n.max(1);
     let mut rows = (n as f64).sqrt() as u32;
-    while n % rows != 0 {
+    while !n.is_multiple_of(rows) {
         rows -= 1;
     }
     (rows, n / rows)
