@@ -1,0 +1,279 @@
+//! The `glint` command as a user runs it: exit codes, diagnostics, files
+//! written or not, and the probe's answers against closed forms.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+
+fn glint(args: &[&str], stdin: Option<&str>) -> Output {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_glint"));
+    cmd.args(args).stdin(if stdin.is_some() {
+        Stdio::piped()
+    } else {
+        Stdio::null()
+    });
+    cmd.stdout(Stdio::piped()).stderr(Stdio::piped());
+    let mut child = cmd.spawn().expect("glint runs");
+    if let Some(text) = stdin {
+        use std::io::Write;
+        child
+            .stdin
+            .take()
+            .unwrap()
+            .write_all(text.as_bytes())
+            .unwrap();
+    }
+    child.wait_with_output().unwrap()
+}
+
+/// A fresh folder for one test.
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("glint-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> String {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p.to_string_lossy().into_owned()
+}
+
+const SMALL: &str = "camera
+    image_W= 32
+    image_H= 24
+end
+light point
+    O= 0 0 5
+    color= 1 1 1
+end
+primitive sphere
+    O= 0 5 0
+    R= 1
+    color= 1 0 0
+    diff= 1
+end
+";
+
+#[test]
+fn render_writes_the_image_and_a_summary() {
+    let dir = scratch("render");
+    let scene = write(&dir, "small.txt", SMALL);
+    let out = dir.join("small.bmp");
+    let o = glint(
+        &["render", &scene, "-o", out.to_str().unwrap(), "--spp", "1"],
+        None,
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let img = image::open(&out).unwrap();
+    assert_eq!((img.width(), img.height()), (32, 24));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("32x24") && err.contains("Mrays/s"), "{err}");
+    // --width alone keeps the aspect; --quiet prints nothing.
+    let o = glint(
+        &[
+            "render",
+            &scene,
+            "-o",
+            out.to_str().unwrap(),
+            "--width",
+            "16",
+            "--quiet",
+        ],
+        None,
+    );
+    assert!(o.status.success());
+    assert!(
+        o.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let img = image::open(&out).unwrap();
+    assert_eq!((img.width(), img.height()), (16, 12));
+    // No temporary file left beside it.
+    let names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(names.len(), 2, "{names:?}");
+}
+
+#[test]
+fn a_broken_scene_exits_2_with_every_error_and_writes_nothing() {
+    let dir = scratch("broken");
+    let scene = write(
+        &dir,
+        "broken.txt",
+        "camera\n    image_W= 32\nend\nprimitive spher\n    O= 0 5 0\nend\nprimitive sphere\n    O= 0 5 x\n    R= -1\nend\n",
+    );
+    let out = dir.join("broken.png");
+    std::fs::write(&out, b"keep me").unwrap();
+    let o = glint(&["render", &scene, "-o", out.to_str().unwrap()], None);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    // Each error with file:line:column; the misspelt type gets a suggestion.
+    assert!(err.contains("broken.txt:4:11"), "{err}");
+    assert!(err.contains("did you mean `sphere`"), "{err}");
+    assert!(err.contains("broken.txt:8:12"), "{err}");
+    assert!(err.contains("broken.txt:9:5"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    // The existing file is untouched.
+    assert_eq!(std::fs::read(&out).unwrap(), b"keep me");
+}
+
+#[test]
+fn bad_arguments_exit_2_and_write_nothing() {
+    let dir = scratch("args");
+    let scene = write(&dir, "s.txt", SMALL);
+    let out = dir.join("s.png");
+    for args in [
+        vec![
+            "render",
+            &scene,
+            "-o",
+            out.to_str().unwrap(),
+            "--width",
+            "0",
+        ],
+        vec![
+            "render",
+            &scene,
+            "-o",
+            out.to_str().unwrap(),
+            "--height",
+            "40000",
+        ],
+        vec!["render", &scene, "-o", dir.join("s.tiff").to_str().unwrap()],
+        vec!["render", dir.join("missing.txt").to_str().unwrap()],
+        vec!["render", &scene, "--spp", "many"],
+    ] {
+        let o = glint(&args, None);
+        assert_eq!(
+            o.status.code(),
+            Some(2),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        assert!(!String::from_utf8_lossy(&o.stderr).contains("panicked"));
+    }
+    assert!(!out.exists());
+    // A folder that does not exist for the output: exit 2, nothing created.
+    let o = glint(
+        &[
+            "render",
+            &scene,
+            "-o",
+            dir.join("no/such/dir/x.png").to_str().unwrap(),
+            "--quiet",
+        ],
+        None,
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert!(!dir.join("no").exists());
+}
+
+/// Parses the probe's JSON line into (hit, t, point, normal, front, primitive).
+fn field<'a>(line: &'a str, key: &str) -> &'a str {
+    let start = line
+        .find(&format!("\"{key}\":"))
+        .unwrap_or_else(|| panic!("{key} in {line}"))
+        + key.len()
+        + 3;
+    let rest = &line[start..];
+    let end = if rest.starts_with('[') {
+        rest.find(']').unwrap() + 1
+    } else {
+        rest.find([',', '}']).unwrap()
+    };
+    &rest[..end]
+}
+
+fn vec3(s: &str) -> [f64; 3] {
+    let v: Vec<f64> = s
+        .trim_matches(['[', ']'])
+        .split(',')
+        .map(|x| x.parse().unwrap())
+        .collect();
+    [v[0], v[1], v[2]]
+}
+
+#[test]
+fn probe_answers_match_closed_forms() {
+    let dir = scratch("probe");
+    let scene = write(
+        &dir,
+        "p.txt",
+        "camera\nend
+light sphere\n    O= 0 -20 0\n    R= 1\n    color= 1 1 1\nend
+primitive sphere\n    O= 0 5 0\n    R= 2\nend
+primitive plane\n    N= 0 0 1\n    R= -3\nend
+primitive square\n    O= 10 0 0\n    Dx= 1 0 0\n    Dy= 0 0 1\nend
+primitive cylinder\n    O1= -10 0 -1\n    O2= -10 0 1\n    R= 0.5\nend
+primitive cube\n    O= 0 0 10\n    Dx= 1 0 0\n    Dy= 0 1 0\n    x= 1\n    y= 2\n    z= 3\nend
+",
+    );
+    let rays = "0 0 0 0 1 0
+0 5 0 0 0 1
+0 0 0 0 0 -2
+10 -5 0.5 0 1 0
+-10 -5 0 0 1 0
+-10 0 5 0 0 -1
+0 0 0 0 0 1
+0 0 10 1 0 0
+0 0 0 0 -1 0
+0 0 0 1 0 0.01
+";
+    let o = glint(&["probe", &scene, "--rays", "-", "--json"], Some(rays));
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8(o.stdout).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 10);
+    // (t, point, normal, front, primitive) expected by hand.
+    let want: [(f64, [f64; 3], [f64; 3], bool, &str); 9] = [
+        (3.0, [0.0, 3.0, 0.0], [0.0, -1.0, 0.0], true, "0"), // sphere front
+        (2.0, [0.0, 5.0, 2.0], [0.0, 0.0, -1.0], false, "0"), // from inside the sphere
+        (3.0, [0.0, 0.0, -3.0], [0.0, 0.0, 1.0], true, "1"), // plane below
+        (5.0, [10.0, 0.0, 0.5], [0.0, -1.0, 0.0], true, "2"), // square: normal Dx × Dy = −y
+        (4.5, [-10.0, -0.5, 0.0], [0.0, -1.0, 0.0], true, "3"), // cylinder side
+        (4.0, [-10.0, 0.0, 1.0], [0.0, 0.0, 1.0], true, "3"), // cylinder cap
+        (7.0, [0.0, 0.0, 7.0], [0.0, 0.0, -1.0], true, "4"), // cube bottom face
+        (1.0, [1.0, 0.0, 10.0], [-1.0, 0.0, 0.0], false, "4"), // cube from inside
+        (19.0, [0.0, -19.0, 0.0], [0.0, 1.0, 0.0], true, "null"), // the sphere light's surface
+    ];
+    for (line, (t, p, n, front, prim)) in lines.iter().zip(want) {
+        assert_eq!(field(line, "hit"), "true", "{line}");
+        let got_t: f64 = field(line, "t").parse().unwrap();
+        assert!((got_t - t).abs() <= 1e-9 * t, "{line}");
+        let (gp, gn) = (vec3(field(line, "point")), vec3(field(line, "normal")));
+        for k in 0..3 {
+            assert!((gp[k] - p[k]).abs() <= 1e-9 * (1.0 + p[k].abs()), "{line}");
+            assert!((gn[k] - n[k]).abs() <= 1e-9, "{line}");
+        }
+        assert_eq!(field(line, "front"), front.to_string(), "{line}");
+        assert_eq!(field(line, "primitive"), prim, "{line}");
+    }
+    assert_eq!(lines[9], "{\"hit\":false}");
+}
+
+#[test]
+fn probe_rejects_bad_rays_with_line_and_column() {
+    let dir = scratch("probe-bad");
+    let scene = write(&dir, "p.txt", SMALL);
+    let rays = write(
+        &dir,
+        "rays.txt",
+        "0 0 0 0 1 0\n\n0 0 zero 0 1 0\n0 0 0 0 0 0\n",
+    );
+    let o = glint(&["probe", &scene, "--rays", &rays, "--json"], None);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        o.stdout.is_empty(),
+        "nothing printed before the input is known good"
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("rays.txt:3:5") && err.contains("`zero` is not a number"),
+        "{err}"
+    );
+    assert!(err.contains("rays.txt:4:"), "{err}");
+}
