@@ -138,7 +138,7 @@ fn unblocked_and_fully_blocked_points_are_exact() {
     ] {
         let open = scene(light);
         assert_eq!(estimate(&open, 16, 50), (1.0, 0.0), "{light}");
-        let shut = scene(&format!("{light}{}", blocker(0.0, 100.0)));
+        let shut = scene(&format!("{light}{}", blocker(0.0, 40.0)));
         assert_eq!(estimate(&shut, 16, 50), (0.0, 0.0), "{light}");
     }
 }
