@@ -222,12 +222,12 @@ fn sphere_keys() {
         panic!("not a sphere")
     };
     assert_eq!((sp.center, sp.radius), (v(1.0, 2.0, 3.0), 0.5));
-    assert_eq!((sp.de, sp.dc), (DVec3::Z, DVec3::X));
+    assert_eq!((sp.de(), sp.dc()), (DVec3::Z, DVec3::X));
     let s = ok("primitive sphere\n R= 1\nend");
     let Shape::Sphere(sp) = &s.objects[0].shape else {
         panic!("not a sphere")
     };
-    assert_eq!((sp.center, sp.de, sp.dc), (DVec3::ZERO, DVec3::Z, DVec3::Y));
+    assert_eq!((sp.center, sp.de(), sp.dc()), (DVec3::ZERO, DVec3::Z, DVec3::Y));
 }
 
 #[test]

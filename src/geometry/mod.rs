@@ -98,9 +98,9 @@ pub enum Shape {
     /// A sphere.
     Sphere(Sphere),
     /// An infinite plane.
-    Plane(Plane),
+    Plane(Box<Plane>),
     /// A parallelogram.
-    Square(Square),
+    Square(Box<Square>),
     /// An oriented box.
     Cube(Box<Cube>),
     /// A closed cylinder.
@@ -188,3 +188,15 @@ pub fn offset_origin(point: DVec3, side: DVec3) -> DVec3 {
 
 /// Relative size of the nudge in [`offset_origin`].
 pub const OFFSET_REL: f64 = 1e-9;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A million-sphere scene keeps its objects small: the enum stays at the
+    /// sphere's size because the larger kinds are boxed.
+    #[test]
+    fn shape_stays_small() {
+        assert!(std::mem::size_of::<Shape>() <= 48, "{}", std::mem::size_of::<Shape>());
+    }
+}

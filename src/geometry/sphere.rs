@@ -11,10 +11,9 @@ pub struct Sphere {
     pub center: DVec3,
     /// Radius (> 0).
     pub radius: f64,
-    /// Unit pole direction of the texture mapping.
-    pub de: DVec3,
-    /// Unit seam direction of the texture mapping.
-    pub dc: DVec3,
+    /// Unit (De, Dc) when not the default (z, y): boxed, as a million
+    /// spheres rarely carry one, to keep the sphere at 40 bytes.
+    orientation: Option<Box<[DVec3; 2]>>,
 }
 
 impl Sphere {
@@ -23,9 +22,28 @@ impl Sphere {
         Sphere {
             center,
             radius,
-            de: DVec3::Z,
-            dc: DVec3::Y,
+            orientation: None,
         }
+    }
+
+    /// A sphere whose texture has its pole along `de` and its seam along `dc` (both unit).
+    pub fn with_orientation(center: DVec3, radius: f64, de: DVec3, dc: DVec3) -> Self {
+        let default = de == DVec3::Z && dc == DVec3::Y;
+        Sphere {
+            center,
+            radius,
+            orientation: (!default).then(|| Box::new([de, dc])),
+        }
+    }
+
+    /// Unit pole direction of the texture mapping (De).
+    pub fn de(&self) -> DVec3 {
+        self.orientation.as_ref().map_or(DVec3::Z, |o| o[0])
+    }
+
+    /// Unit seam direction of the texture mapping (Dc).
+    pub fn dc(&self) -> DVec3 {
+        self.orientation.as_ref().map_or(DVec3::Y, |o| o[1])
     }
 
     /// Both roots of the ray/sphere quadratic (t0 ≤ t1), or `None` on a miss.
@@ -77,15 +95,16 @@ impl Sphere {
 
     /// The spec's sphere mapping for the unit direction `i` from the centre.
     pub fn uv(&self, i: DVec3) -> DVec2 {
-        let a = (-i.dot(self.de)).clamp(-1.0, 1.0).acos();
+        let (de, dc) = (self.de(), self.dc());
+        let a = (-i.dot(de)).clamp(-1.0, 1.0).acos();
         let sin_a = a.sin();
         let b = if sin_a > 0.0 {
-            (i.dot(self.dc) / sin_a).clamp(-1.0, 1.0).acos()
+            (i.dot(dc) / sin_a).clamp(-1.0, 1.0).acos()
         } else {
             0.0
         };
         let mut v = b / (2.0 * PI);
-        if i.dot(self.dc.cross(self.de)) < 0.0 {
+        if i.dot(dc.cross(de)) < 0.0 {
             v = 1.0 - v;
         }
         DVec2::new(a / PI, v)

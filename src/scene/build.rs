@@ -818,18 +818,15 @@ impl<'p> Builder<'p> {
                 let dc = b.direction("Dc", DVec3::Y, textured);
                 match (r, de, dc) {
                     (Some(r), Some(de), Some(dc)) => {
-                        let mut s = Sphere::new(origin, r);
-                        s.de = de;
-                        s.dc = dc;
-                        Some(vec![Shape::Sphere(s)])
+                        Some(vec![Shape::Sphere(Sphere::with_orientation(origin, r, de, dc))])
                     }
                     _ => None,
                 }
             }
-            P::Plane => plane(b, textured).map(|p| vec![Shape::Plane(p)]),
+            P::Plane => plane(b, textured).map(|p| vec![Shape::Plane(Box::new(p))]),
             P::Square => b
                 .span_pair("Dx", "Dy")
-                .map(|(dx, dy)| vec![Shape::Square(Square::new(origin, dx, dy))]),
+                .map(|(dx, dy)| vec![Shape::Square(Box::new(Square::new(origin, dx, dy)))]),
             P::Cube => cube(b, origin).map(|c| vec![Shape::Cube(Box::new(c))]),
             P::Cylinder => {
                 let axis = b.axis();

@@ -288,7 +288,7 @@ impl Scene {
         let shape = match light.kind {
             LightKind::Point { .. } => None,
             LightKind::Square { center, dx, dy } => {
-                Some(Shape::Square(crate::geometry::Square::new(center, dx, dy)))
+                Some(Shape::Square(Box::new(crate::geometry::Square::new(center, dx, dy))))
             }
             LightKind::Sphere { center, radius } => {
                 Some(Shape::Sphere(crate::geometry::Sphere::new(center, radius)))
