@@ -230,9 +230,19 @@ fn glossy_direction(
     drefl: f64,
     rng: &mut Pcg32,
 ) -> DVec3 {
-    let radius = 2f64.powf(rng.random::<f64>()) - 1.0;
-    let angle = std::f64::consts::TAU * rng.random::<f64>();
-    let mut dir = (mirror + (a1 * angle.cos() + a2 * angle.sin()) * (radius * drefl)).normalize();
+    let radius = (rng.random::<f64>()).exp2() - 1.0;
+    // A uniform angle as a point of the unit circle, by rejection from the
+    // square: cheaper than sin and cos.
+    let (c, s) = loop {
+        let x = 2.0 * rng.random::<f64>() - 1.0;
+        let y = 2.0 * rng.random::<f64>() - 1.0;
+        let r2 = x * x + y * y;
+        if r2 <= 1.0 && r2 > 1e-12 {
+            let inv = 1.0 / r2.sqrt();
+            break (x * inv, y * inv);
+        }
+    };
+    let mut dir = (mirror + (a1 * c + a2 * s) * (radius * drefl)).normalize();
     let below = dir.dot(side);
     if below < 0.0 {
         dir -= side * (2.0 * below);
