@@ -1,17 +1,46 @@
 //! Ray queries over all of a scene's objects: nearest hit and any hit.
+//!
+//! Bounded objects sit in a bounding volume hierarchy (binned SAH, 32-byte
+//! nodes with f32 boxes rounded outward so no hit is lost); unbounded ones
+//! (planes), and any whose bounds are not finite or beyond 1e30, are tested
+//! one by one. Answers are exactly those of testing every object in index
+//! order: same object, same hit.
+
+mod bvh;
 
 use crate::geometry::{Hit, Ray};
 use crate::scene::Object;
+use bvh::{Bvh, Item};
+use rayon::prelude::*;
 
 /// Answers ray queries over a list of objects.
 pub struct Accel<'a> {
     objects: &'a [Object],
+    bvh: Bvh,
+    /// Objects kept out of the tree (planes), tested against every ray.
+    unbounded: Vec<u32>,
 }
 
 impl<'a> Accel<'a> {
     /// Builds the structure over `objects` (indices into it are returned by queries).
     pub fn build(objects: &'a [Object]) -> Self {
-        Accel { objects }
+        let items: Vec<Item> = objects
+            .par_iter()
+            .enumerate()
+            .filter_map(|(i, o)| Item::new(i as u32, &o.shape.bounds()?))
+            .collect();
+        // The objects left out, in order: the gaps between the items' indices.
+        let mut unbounded = Vec::new();
+        let mut next = 0;
+        for index in items.iter().map(Item::index).chain([objects.len() as u32]) {
+            unbounded.extend(next..index);
+            next = index + 1;
+        }
+        Accel {
+            objects,
+            bvh: Bvh::build(items),
+            unbounded,
+        }
     }
 
     /// The objects the queries run over.
@@ -20,24 +49,61 @@ impl<'a> Accel<'a> {
     }
 
     /// The nearest hit with 0 < t < `t_max`: the object's index and the hit.
+    /// Of hits at the same distance, the lowest index wins.
     pub fn intersect(&self, ray: &Ray, t_max: f64) -> Option<(u32, Hit)> {
-        let mut best = None;
+        let mut best: Option<(u32, Hit)> = None;
         let mut t_best = t_max;
-        for (i, o) in self.objects.iter().enumerate() {
-            if let Some(h) = o.shape.intersect(ray, 0.0, t_best) {
-                t_best = h.t;
-                best = Some((i as u32, h));
+        let mut test = |i: u32, t_best: &mut f64| {
+            // A lower index also wins a tie, so the answer does not depend on
+            // the visiting order.
+            let limit = match best {
+                Some((b, _)) if i < b => t_best.next_up(),
+                _ => *t_best,
+            };
+            if let Some(h) = self.objects[i as usize].shape.intersect(ray, 0.0, limit) {
+                *t_best = h.t;
+                best = Some((i, h));
             }
+        };
+        for &i in &self.unbounded {
+            test(i, &mut t_best);
         }
+        self.bvh.traverse(ray, &mut t_best, |prims, t_best| {
+            for &i in prims {
+                test(i, t_best);
+            }
+            false
+        });
         best
     }
 
     /// Whether anything lies on the ray with 0 < t < `t_max`, not counting
     /// the visible surface of light `ignore_light`.
     pub fn occluded(&self, ray: &Ray, t_max: f64, ignore_light: Option<u32>) -> bool {
-        self.objects.iter().any(|o| {
+        let blocks = |i: u32| {
+            let o = &self.objects[i as usize];
             (o.light.is_none() || o.light != ignore_light)
                 && o.shape.intersect(ray, 0.0, t_max).is_some()
-        })
+        };
+        if self.unbounded.iter().any(|&i| blocks(i)) {
+            return true;
+        }
+        let mut hit = false;
+        let mut t_best = t_max;
+        self.bvh.traverse(ray, &mut t_best, |prims, _| {
+            hit = prims.iter().any(|&i| blocks(i));
+            hit
+        });
+        hit
+    }
+
+    /// Nodes in the hierarchy (for statistics).
+    pub fn node_count(&self) -> usize {
+        self.bvh.node_count()
+    }
+
+    /// Bytes the structure holds beyond the objects themselves.
+    pub fn memory_bytes(&self) -> usize {
+        size_of::<Self>() + self.bvh.heap_bytes() + self.unbounded.capacity() * size_of::<u32>()
     }
 }

@@ -1,0 +1,187 @@
+//! Hierarchy build time and traversal throughput.
+//!
+//! `cargo bench --bench bvh`; prints bytes per primitive of each structure.
+
+use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use glam::DVec3;
+use glint::accel::Accel;
+use glint::geometry::{Ray, Shape, Sphere, Triangle};
+use glint::scene::Object;
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg64;
+use std::hint::black_box;
+use std::time::Duration;
+
+/// Rays per measured batch.
+const BATCH: usize = 20_000;
+
+fn object(shape: Shape) -> Object {
+    Object {
+        shape,
+        material: 0,
+        block: Some(0),
+        light: None,
+    }
+}
+
+/// `n` spheres in a cube of side n^(1/3) (about one per unit volume, so the
+/// density does not change with n), radii 0.05 to 0.5.
+fn random_spheres(n: usize, seed: u64) -> Vec<Object> {
+    let mut rng = Pcg64::seed_from_u64(seed);
+    let side = (n as f64).cbrt();
+    (0..n)
+        .map(|_| {
+            let c = DVec3::new(rng.random(), rng.random(), rng.random()) * side;
+            object(Shape::Sphere(Sphere::new(c, rng.random_range(0.05..0.5))))
+        })
+        .collect()
+}
+
+/// The Stanford bunny's triangles (the crate's OBJ loader is another feature).
+fn bunny() -> Vec<Object> {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../shared/scenes/meshes/stanford-bunny.obj"
+    );
+    let options = tobj::LoadOptions {
+        triangulate: true,
+        ..Default::default()
+    };
+    let (models, _) = tobj::load_obj(path, &options).expect("the bunny mesh is readable");
+    let mut objects = Vec::new();
+    for m in models {
+        let p = &m.mesh.positions;
+        let v = |i: u32| {
+            let i = i as usize * 3;
+            DVec3::new(p[i] as f64, p[i + 1] as f64, p[i + 2] as f64)
+        };
+        for f in m.mesh.indices.chunks_exact(3) {
+            objects.push(object(Shape::Triangle(Box::new(Triangle::new(
+                v(f[0]),
+                v(f[1]),
+                v(f[2]),
+                None,
+            )))));
+        }
+    }
+    objects
+}
+
+/// Bounds of all objects.
+fn scene_bounds(objects: &[Object]) -> (DVec3, DVec3) {
+    objects
+        .iter()
+        .filter_map(|o| o.shape.bounds())
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), b| {
+            (lo.min(b.min), hi.max(b.max))
+        })
+}
+
+fn point_in(rng: &mut Pcg64, lo: DVec3, hi: DVec3) -> DVec3 {
+    lo + (hi - lo) * DVec3::new(rng.random(), rng.random(), rng.random())
+}
+
+/// Camera-like rays: from outside the scene's box towards random points in it.
+fn primary_rays(objects: &[Object], seed: u64) -> Vec<Ray> {
+    let mut rng = Pcg64::seed_from_u64(seed);
+    let (lo, hi) = scene_bounds(objects);
+    let (c, r) = ((lo + hi) * 0.5, (hi - lo).length());
+    (0..BATCH)
+        .map(|_| {
+            let o = loop {
+                let d = DVec3::new(rng.random(), rng.random(), rng.random()) * 2.0 - 1.0;
+                if d.length_squared() > 0.01 {
+                    break c + d.normalize() * r;
+                }
+            };
+            Ray::new(o, (point_in(&mut rng, lo, hi) - o).normalize())
+        })
+        .collect()
+}
+
+/// Shadow-like segments between two random points of the scene's box.
+fn segments(objects: &[Object], seed: u64) -> Vec<(Ray, f64)> {
+    let mut rng = Pcg64::seed_from_u64(seed);
+    let (lo, hi) = scene_bounds(objects);
+    (0..BATCH)
+        .map(|_| {
+            let a = point_in(&mut rng, lo, hi);
+            let d = point_in(&mut rng, lo, hi) - a;
+            (Ray::new(a, d.normalize()), d.length())
+        })
+        .collect()
+}
+
+fn build(c: &mut Criterion) {
+    let mut g = c.benchmark_group("build");
+    g.sample_size(10)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(4));
+    for n in [10_000, 100_000, 1_000_000] {
+        let objects = random_spheres(n, 1);
+        g.throughput(Throughput::Elements(n as u64));
+        g.bench_with_input(BenchmarkId::new("spheres", n), &objects, |b, o| {
+            b.iter(|| Accel::build(black_box(o)))
+        });
+        let accel = Accel::build(&objects);
+        eprintln!(
+            "spheres {n}: {} nodes, {:.1} bytes per primitive (plus {} per Object)",
+            accel.node_count(),
+            accel.memory_bytes() as f64 / n as f64,
+            size_of::<Object>()
+        );
+    }
+    g.finish();
+}
+
+fn traverse(c: &mut Criterion) {
+    let mut g = c.benchmark_group("traverse");
+    g.sample_size(10)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(3))
+        .throughput(Throughput::Elements(BATCH as u64));
+    let scenes = [
+        ("spheres-10k", random_spheres(10_000, 2)),
+        ("spheres-1M", random_spheres(1_000_000, 3)),
+        ("bunny", bunny()),
+    ];
+    for (name, objects) in &scenes {
+        let accel = Accel::build(objects);
+        let rays = primary_rays(objects, 4);
+        let hits = rays
+            .iter()
+            .filter(|r| accel.intersect(r, f64::INFINITY).is_some())
+            .count();
+        let shadow = segments(objects, 5);
+        let blocked = shadow
+            .iter()
+            .filter(|(r, t)| accel.occluded(r, *t, None))
+            .count();
+        eprintln!(
+            "{name}: {} primitives, {:.1} bytes per primitive; {:.0}% of rays hit, {:.0}% of segments blocked",
+            objects.len(),
+            accel.memory_bytes() as f64 / objects.len() as f64,
+            100.0 * hits as f64 / BATCH as f64,
+            100.0 * blocked as f64 / BATCH as f64,
+        );
+        g.bench_function(BenchmarkId::new("closest-hit", name), |b| {
+            b.iter(|| {
+                rays.iter()
+                    .filter(|r| accel.intersect(r, f64::INFINITY).is_some())
+                    .count()
+            })
+        });
+        g.bench_function(BenchmarkId::new("any-hit", name), |b| {
+            b.iter(|| {
+                shadow
+                    .iter()
+                    .filter(|(r, t)| accel.occluded(r, *t, None))
+                    .count()
+            })
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, build, traverse);
+criterion_main!(benches);

@@ -1,0 +1,701 @@
+//! A bounding volume hierarchy over boxes: binned-SAH build into a flat
+//! array of 32-byte nodes, and an ordered, allocation-free traversal.
+
+use crate::geometry::{Aabb, Ray};
+
+/// Bins per axis for the surface area heuristic.
+const BINS: usize = 16;
+/// Leaves never hold more primitives than this.
+const MAX_LEAF: usize = 8;
+/// Cost of visiting an interior node (two box tests), relative to one
+/// primitive test.
+const TRAVERSAL_COST: f64 = 1.5;
+/// Below this depth splits follow the SAH; deeper ones split at the median,
+/// which bounds the depth (and so the traversal stack) for any input.
+const SAH_MAX_DEPTH: usize = 48;
+/// Traversal stack entries: more than SAH_MAX_DEPTH + 32 median levels (u32
+/// indices); a power of two so masked indices need no bounds check.
+const STACK_SIZE: usize = 128;
+/// Subtrees with at least this many primitives build their halves in parallel.
+const PARALLEL_MIN: usize = 4096;
+/// Relative slack on the far distance of a box test: absorbs the rounding
+/// of the slab arithmetic and of the primitive tests, so no hit is lost.
+const FAR_SLACK: f64 = 1.0 + 1.0 / (1u64 << 30) as f64;
+/// Relative padding of primitive boxes, of their size plus their distance
+/// from the origin (what the rounding errors of the primitive tests scale
+/// with), applied before rounding them outward to f32.
+const BOX_PAD: f64 = 1.0 / (1u64 << 36) as f64;
+/// Boxes with a coordinate beyond this stay out of the tree (f32 range).
+const MAX_COORD: f64 = 1e30;
+
+/// One node of the tree: 32 bytes.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C, align(32))]
+pub(crate) struct Node {
+    /// Lowest corner (x, y, z) then highest corner, rounded outward to f32.
+    pub bounds: [f32; 6],
+    /// Interior node: id of the first child (even; the second follows it).
+    /// Leaf: index of its first entry in [`Bvh::prims`].
+    pub start: u32,
+    /// Number of primitives of a leaf; 0 for an interior node.
+    pub count: u32,
+}
+
+/// Two sibling nodes, on one 64-byte cache line. Node id `k` is
+/// `pairs[k / 2].0[k % 2]`; the root is id 0 (its sibling slot is unused).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C, align(64))]
+pub(crate) struct Pair(pub [Node; 2]);
+
+/// A primitive's box and index while the tree is built.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Item {
+    /// Box as in [`Node::bounds`].
+    bounds: [f32; 6],
+    /// Index of the primitive in the caller's list.
+    index: u32,
+}
+
+impl Item {
+    /// The item for primitive `index` with bounds `b`, or `None` when the
+    /// box is not finite or too large for f32 (such objects are tested apart).
+    pub(crate) fn new(index: u32, b: &Aabb) -> Option<Item> {
+        let lo = b.min.to_array();
+        let hi = b.max.to_array();
+        let mut extent: f64 = 0.0;
+        let mut mag: f64 = 0.0;
+        for a in 0..3 {
+            let ok = lo[a] <= hi[a] && lo[a].abs() <= MAX_COORD && hi[a].abs() <= MAX_COORD;
+            if !ok {
+                return None;
+            }
+            extent = extent.max(hi[a] - lo[a]);
+            mag = mag.max(lo[a].abs()).max(hi[a].abs());
+        }
+        let pad = (extent + mag) * BOX_PAD;
+        let mut bounds = [0.0; 6];
+        for a in 0..3 {
+            bounds[a] = f32_down(lo[a] - pad);
+            bounds[a + 3] = f32_up(hi[a] + pad);
+        }
+        Some(Item { bounds, index })
+    }
+
+    /// Index of the primitive in the caller's list.
+    pub(crate) fn index(&self) -> u32 {
+        self.index
+    }
+
+    /// Centroid coordinate on `axis` (halves first: no overflow).
+    #[inline]
+    fn centroid(&self, axis: usize) -> f32 {
+        self.bounds[axis] * 0.5 + self.bounds[axis + 3] * 0.5
+    }
+}
+
+/// The largest f32 not above `x`.
+fn f32_down(x: f64) -> f32 {
+    let f = x as f32;
+    if f as f64 > x { f.next_down() } else { f }
+}
+
+/// The smallest f32 not below `x`.
+fn f32_up(x: f64) -> f32 {
+    let f = x as f32;
+    if (f as f64) < x { f.next_up() } else { f }
+}
+
+/// An empty box for unions.
+const EMPTY: [f32; 6] = [
+    f32::INFINITY,
+    f32::INFINITY,
+    f32::INFINITY,
+    f32::NEG_INFINITY,
+    f32::NEG_INFINITY,
+    f32::NEG_INFINITY,
+];
+
+/// Grows `a` to hold `b` (build boxes are finite: plain comparisons suffice).
+#[inline(always)]
+fn union(a: &mut [f32; 6], b: &[f32; 6]) {
+    for k in 0..3 {
+        a[k] = if b[k] < a[k] { b[k] } else { a[k] };
+        a[k + 3] = if b[k + 3] > a[k + 3] {
+            b[k + 3]
+        } else {
+            a[k + 3]
+        };
+    }
+}
+
+/// Half the surface area (0 for empty boxes), in f64: no overflow.
+#[inline]
+fn half_area(b: &[f32; 6]) -> f64 {
+    let d = [
+        b[3] as f64 - b[0] as f64,
+        b[4] as f64 - b[1] as f64,
+        b[5] as f64 - b[2] as f64,
+    ];
+    if d[0] < 0.0 || d[1] < 0.0 || d[2] < 0.0 {
+        0.0
+    } else {
+        d[0] * d[1] + d[1] * d[2] + d[2] * d[0]
+    }
+}
+
+/// The tree: nodes in sibling pairs (root first) and the primitive indices
+/// of the leaves.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Bvh {
+    /// Node pairs, in depth-first order. Empty when there are no primitives.
+    pub pairs: Vec<Pair>,
+    /// Primitive indices, leaf by leaf.
+    pub prims: Vec<u32>,
+}
+
+impl Bvh {
+    /// Builds the tree over `items`; the result does not depend on the
+    /// number of threads.
+    pub(crate) fn build(mut items: Vec<Item>) -> Bvh {
+        let n = items.len();
+        if n == 0 {
+            return Bvh::default();
+        }
+        let ext = Extents::of(&items);
+        // Slot 0 stays unused: the root is returned, its descendants start at 1.
+        let mut slots = vec![Node::default(); 2 * n - 1];
+        let (root, count) = build_node(&mut items, 0, ext, 0, &mut slots[1..], 1);
+        let pairs = compact(root, &slots, count);
+        let prims = items.iter().map(|it| it.index).collect();
+        Bvh { pairs, prims }
+    }
+
+    /// The node with id `k`.
+    #[inline(always)]
+    pub(crate) fn node(&self, k: u32) -> &Node {
+        &self.pairs[k as usize >> 1].0[k as usize & 1]
+    }
+
+    /// Number of nodes.
+    pub(crate) fn node_count(&self) -> usize {
+        (2 * self.pairs.len()).saturating_sub(1)
+    }
+
+    /// Bytes held on the heap.
+    pub(crate) fn heap_bytes(&self) -> usize {
+        self.pairs.capacity() * size_of::<Pair>() + self.prims.capacity() * size_of::<u32>()
+    }
+
+    /// Visits, nearest box first, the leaves whose boxes the ray enters at a
+    /// distance in [0, `t_best`] (up to the slack); `leaf` gets the leaf's
+    /// primitives and may lower `t_best`, and stops the walk by returning true.
+    #[inline]
+    pub(crate) fn traverse(
+        &self,
+        ray: &Ray,
+        t_best: &mut f64,
+        mut leaf: impl FnMut(&[u32], &mut f64) -> bool,
+    ) {
+        let Some(Pair([root, _])) = self.pairs.first() else {
+            return;
+        };
+        let rb = RayBox::new(ray);
+        if rb.entry(&root.bounds, *t_best) == MISS {
+            return;
+        }
+        let mut stack_node = [0u32; STACK_SIZE];
+        let mut stack_t = [0f64; STACK_SIZE];
+        let mut sp = 0;
+        let mut node = root;
+        loop {
+            if node.count > 0 {
+                let s = node.start as usize;
+                if leaf(&self.prims[s..s + node.count as usize], t_best) {
+                    return;
+                }
+            } else {
+                let pair = &self.pairs[node.start as usize >> 1].0;
+                let ta = rb.entry(&pair[0].bounds, *t_best);
+                let tb = rb.entry(&pair[1].bounds, *t_best);
+                let (hit_a, hit_b) = (ta != MISS, tb != MISS);
+                if hit_a || hit_b {
+                    // Go to the nearer child, push the other if hit. The order
+                    // is a coin toss for the branch predictor, so it is chosen
+                    // by arithmetic; a missed child has entry MISS = ∞, so it
+                    // is never the nearer one.
+                    let a_first = ta <= tb;
+                    // The mask only spares a bounds check: sp <= depth <=
+                    // SAH_MAX_DEPTH + 32 < STACK_SIZE (one push per level).
+                    stack_node[sp & (STACK_SIZE - 1)] = node.start + a_first as u32;
+                    stack_t[sp & (STACK_SIZE - 1)] = max_num(ta, tb);
+                    sp += (hit_a && hit_b) as usize;
+                    node = &pair[!a_first as usize];
+                    continue;
+                }
+            }
+            // Pop the nearest pending node that may still hold a nearer hit.
+            loop {
+                if sp == 0 {
+                    return;
+                }
+                sp -= 1;
+                if stack_t[sp & (STACK_SIZE - 1)] <= *t_best * FAR_SLACK {
+                    node = self.node(stack_node[sp & (STACK_SIZE - 1)]);
+                    break;
+                }
+            }
+        }
+    }
+}
+
+/// What [`RayBox::entry`] returns for a box the ray misses.
+const MISS: f64 = f64::INFINITY;
+
+/// A ray prepared for box tests.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct RayBox {
+    origin: [f64; 3],
+    inv_dir: [f64; 3],
+    /// Per axis: 0 if the ray runs towards +axis (enters at the box's min), else 3.
+    near: [usize; 3],
+}
+
+impl RayBox {
+    /// Precomputes the inverse direction and the entry side per axis.
+    #[inline]
+    pub(crate) fn new(ray: &Ray) -> Self {
+        let inv = [1.0 / ray.dir.x, 1.0 / ray.dir.y, 1.0 / ray.dir.z];
+        // A -0 direction gives -inf: the sign, not the comparison, picks the side.
+        let side = |v: f64| if v.is_sign_negative() { 3 } else { 0 };
+        RayBox {
+            origin: ray.origin.to_array(),
+            inv_dir: inv,
+            near: [side(inv[0]), side(inv[1]), side(inv[2])],
+        }
+    }
+
+    /// The distance at which the ray enters the box, clipped to [0, t_best]
+    /// (with slack on the far side), or [`MISS`].
+    ///
+    /// The far distance gets a relative slack far above the rounding error of
+    /// the slab arithmetic, so rounding never turns a hit into a miss; the
+    /// boxes are already rounded outward. A zero direction component with
+    /// the origin on a slab plane makes 0·∞ = NaN; [`max_num`] / [`min_num`]
+    /// drop it, which leaves that slab unconstrained: right, since the
+    /// (closed) slab holds the whole ray then.
+    #[inline(always)]
+    pub(crate) fn entry(&self, b: &[f32; 6], t_best: f64) -> f64 {
+        // Masks keep the indices provably in 0..6 (no bounds checks).
+        let [nx, ny, nz] = self.near.map(|n| n & 3);
+        let [fx, fy, fz] = self.near.map(|n| (n ^ 3) & 3);
+        let [ox, oy, oz] = self.origin;
+        let [ix, iy, iz] = self.inv_dir;
+        let tx0 = (b[nx] as f64 - ox) * ix;
+        let ty0 = (b[ny + 1] as f64 - oy) * iy;
+        let tz0 = (b[nz + 2] as f64 - oz) * iz;
+        let tx1 = (b[fx] as f64 - ox) * ix;
+        let ty1 = (b[fy + 1] as f64 - oy) * iy;
+        let tz1 = (b[fz + 2] as f64 - oz) * iz;
+        let t0 = max_num(tz0, max_num(ty0, max_num(tx0, 0.0)));
+        let t1 = min_num(tz1, min_num(ty1, min_num(tx1, t_best)));
+        if t0 <= t1 * FAR_SLACK { t0 } else { MISS }
+    }
+}
+
+/// The larger of `t` and `acc`, or `acc` when `t` is NaN (one `maxsd`).
+#[inline(always)]
+fn max_num(t: f64, acc: f64) -> f64 {
+    if t > acc { t } else { acc }
+}
+
+/// The smaller of `t` and `acc`, or `acc` when `t` is NaN (one `minsd`).
+#[inline(always)]
+fn min_num(t: f64, acc: f64) -> f64 {
+    if t < acc { t } else { acc }
+}
+
+/// Bounds of a set of items' boxes and of their centroids.
+#[derive(Clone, Copy, Debug)]
+struct Extents {
+    bounds: [f32; 6],
+    cent: [f32; 6],
+}
+
+impl Extents {
+    const EMPTY: Extents = Extents {
+        bounds: EMPTY,
+        cent: EMPTY,
+    };
+
+    #[inline(always)]
+    fn grow(&mut self, it: &Item) {
+        union(&mut self.bounds, &it.bounds);
+        let c = [it.centroid(0), it.centroid(1), it.centroid(2)];
+        union(&mut self.cent, &[c[0], c[1], c[2], c[0], c[1], c[2]]);
+    }
+
+    fn of(items: &[Item]) -> Extents {
+        let mut e = Extents::EMPTY;
+        for it in items {
+            e.grow(it);
+        }
+        e
+    }
+}
+
+/// Builds the subtree over `items` (the first is primitive `offset` of the
+/// final order, `ext` their extents) and returns its root and node count.
+///
+/// Its descendants go into `desc`, whose first slot has index `base`: a
+/// subtree over n items has at most 2n − 2 descendants, so each subtree gets
+/// exactly that many slots and the two halves of a split can be built on
+/// different threads without sharing anything.
+fn build_node(
+    items: &mut [Item],
+    offset: u32,
+    ext: Extents,
+    depth: usize,
+    desc: &mut [Node],
+    base: u32,
+) -> (Node, usize) {
+    let n = items.len();
+    let Some((mid, left_ext, right_ext)) = split(items, &ext, depth) else {
+        let leaf = Node {
+            bounds: ext.bounds,
+            start: offset,
+            count: n as u32,
+        };
+        return (leaf, 1);
+    };
+    let (pair, rest) = desc.split_at_mut(2);
+    let (left_desc, right_desc) = rest.split_at_mut(2 * mid - 2);
+    let (left, right) = items.split_at_mut(mid);
+    let left_base = base + 2;
+    let right_base = left_base + 2 * mid as u32 - 2;
+    let right_offset = offset + mid as u32;
+    let ((l, nl), (r, nr)) = if n >= PARALLEL_MIN {
+        rayon::join(
+            || build_node(left, offset, left_ext, depth + 1, left_desc, left_base),
+            || {
+                build_node(
+                    right,
+                    right_offset,
+                    right_ext,
+                    depth + 1,
+                    right_desc,
+                    right_base,
+                )
+            },
+        )
+    } else {
+        (
+            build_node(left, offset, left_ext, depth + 1, left_desc, left_base),
+            build_node(
+                right,
+                right_offset,
+                right_ext,
+                depth + 1,
+                right_desc,
+                right_base,
+            ),
+        )
+    };
+    pair[0] = l;
+    pair[1] = r;
+    let interior = Node {
+        bounds: ext.bounds,
+        start: base,
+        count: 0,
+    };
+    (interior, 1 + nl + nr)
+}
+
+/// The nodes reachable from `root` (children in `slots`), without the
+/// unused slots, as sibling pairs in depth-first order.
+fn compact(root: Node, slots: &[Node], count: usize) -> Vec<Pair> {
+    let mut out = Vec::with_capacity(count.div_ceil(2));
+    out.push(Pair([root, Node::default()]));
+    let mut todo = vec![0u32];
+    while let Some(k) = todo.pop() {
+        let (p, c) = (k as usize >> 1, k as usize & 1);
+        if out[p].0[c].count == 0 {
+            let s = out[p].0[c].start as usize;
+            let first = 2 * out.len() as u32;
+            out.push(Pair([slots[s], slots[s + 1]]));
+            out[p].0[c].start = first;
+            todo.push(first + 1);
+            todo.push(first);
+        }
+    }
+    out
+}
+
+/// Bin accumulator.
+#[derive(Clone, Copy)]
+struct Bin {
+    bounds: [f32; 6],
+    count: u32,
+}
+
+/// Decides how to split `items` and reorders them so the first `mid` go
+/// left; returns `mid` and both sides' extents, or `None` for a leaf.
+fn split(items: &mut [Item], ext: &Extents, depth: usize) -> Option<(usize, Extents, Extents)> {
+    let n = items.len();
+    if n <= 1 {
+        return None;
+    }
+    let cent = &ext.cent;
+    if depth < SAH_MAX_DEPTH {
+        // Fewer bins for small nodes: binning costs little, evaluating bins does.
+        let bins_used = n.clamp(4, BINS);
+        // Bin index of a centroid on each axis: ((lo + hi) / 2 - cmin) * bins / width,
+        // folded into one multiply-add; usable axes have scale > 0.
+        let mut scale = [0f32; 3];
+        let mut shift = [0f32; 3];
+        for a in 0..3 {
+            let width = cent[a + 3] - cent[a];
+            if width > 0.0 {
+                scale[a] = 0.5 * bins_used as f32 / width;
+                shift[a] = cent[a] * (2.0 * scale[a]);
+            }
+        }
+        let bin_of = |it: &Item, a: usize| -> usize {
+            let k = (it.bounds[a] + it.bounds[a + 3]) * scale[a] - shift[a];
+            // Saturating cast: negatives go to 0; the clamp catches the top edge.
+            (k as usize).min(bins_used - 1)
+        };
+        let mut bins = [[Bin {
+            bounds: EMPTY,
+            count: 0,
+        }; BINS]; 3];
+        for it in items.iter() {
+            for a in 0..3 {
+                if scale[a] > 0.0 {
+                    let bin = &mut bins[a][bin_of(it, a)];
+                    union(&mut bin.bounds, &it.bounds);
+                    bin.count += 1;
+                }
+            }
+        }
+        // Cost (half area x count of both sides) of splitting after bin i.
+        let mut best: Option<(f64, usize, usize)> = None;
+        for a in 0..3 {
+            if scale[a] <= 0.0 {
+                continue;
+            }
+            let mut right_cost = [0f64; BINS];
+            let mut right_count = [0u32; BINS];
+            let mut acc = EMPTY;
+            let mut count = 0;
+            for i in (1..bins_used).rev() {
+                union(&mut acc, &bins[a][i].bounds);
+                count += bins[a][i].count;
+                right_cost[i] = half_area(&acc) * count as f64;
+                right_count[i] = count;
+            }
+            let mut acc = EMPTY;
+            let mut count = 0;
+            for i in 0..bins_used - 1 {
+                union(&mut acc, &bins[a][i].bounds);
+                count += bins[a][i].count;
+                if count == 0 || right_count[i + 1] == 0 {
+                    continue;
+                }
+                let cost = half_area(&acc) * count as f64 + right_cost[i + 1];
+                if best.is_none_or(|(c, _, _)| cost < c) {
+                    best = Some((cost, a, i));
+                }
+            }
+        }
+        if let Some((cost, a, i)) = best {
+            let area = half_area(&ext.bounds);
+            let split_pays = TRAVERSAL_COST * area + cost < n as f64 * area;
+            if !split_pays && n <= MAX_LEAF {
+                return None;
+            }
+            // Both sides are non-empty: the counts above came from the same bin_of.
+            let mut left = Extents::EMPTY;
+            let mut right = Extents::EMPTY;
+            let mut lo = 0;
+            let mut hi = n;
+            while lo < hi {
+                let it = items[lo];
+                if bin_of(&it, a) <= i {
+                    left.grow(&it);
+                    lo += 1;
+                } else {
+                    right.grow(&it);
+                    hi -= 1;
+                    items.swap(lo, hi);
+                }
+            }
+            return Some((lo, left, right));
+        }
+    }
+    if n <= MAX_LEAF {
+        return None;
+    }
+    // Inseparable centroids or too deep: median split on the widest centroid axis.
+    let mut axis = 0;
+    for a in 1..3 {
+        if cent[a + 3] - cent[a] > cent[axis + 3] - cent[axis] {
+            axis = a;
+        }
+    }
+    let mid = n / 2;
+    items.select_nth_unstable_by(mid, |p, q| p.centroid(axis).total_cmp(&q.centroid(axis)));
+    Some((mid, Extents::of(&items[..mid]), Extents::of(&items[mid..])))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec3;
+
+    fn unit_box() -> [f32; 6] {
+        [0.0, 0.0, 0.0, 1.0, 1.0, 1.0]
+    }
+
+    #[test]
+    fn ray_in_a_face_plane_with_zero_direction_enters() {
+        // Origin on the min-x and max-z faces' planes, direction along y only:
+        // both 0·∞ cases must leave the slab open.
+        for dir in [DVec3::Y, DVec3::NEG_Y] {
+            for x in [0.0, 1.0] {
+                let o = DVec3::new(x, if dir.y > 0.0 { -2.0 } else { 3.0 }, 1.0);
+                let rb = RayBox::new(&Ray::new(o, dir));
+                assert_eq!(rb.entry(&unit_box(), f64::INFINITY), 2.0, "{o} {dir}");
+            }
+        }
+        // Negative zero components pick the other side.
+        let d = DVec3::new(-0.0, 1.0, -0.0);
+        let rb = RayBox::new(&Ray::new(DVec3::new(1.0, -2.0, 0.0), d));
+        assert_eq!(rb.entry(&unit_box(), f64::INFINITY), 2.0);
+        // Just outside the slab: miss.
+        let o = DVec3::new(1.0f64.next_up(), -2.0, 0.5);
+        let rb = RayBox::new(&Ray::new(o, DVec3::Y));
+        assert_eq!(rb.entry(&unit_box(), f64::INFINITY), MISS);
+    }
+
+    #[test]
+    fn box_behind_or_beyond_t_best_is_missed() {
+        let rb = RayBox::new(&Ray::new(DVec3::new(0.5, 0.5, 5.0), DVec3::Z));
+        assert_eq!(rb.entry(&unit_box(), f64::INFINITY), MISS);
+        let rb = RayBox::new(&Ray::new(DVec3::new(0.5, 0.5, -5.0), DVec3::Z));
+        assert_eq!(rb.entry(&unit_box(), 4.0), MISS);
+        assert_eq!(rb.entry(&unit_box(), 5.0), 5.0);
+        // Origin inside: entry at 0.
+        let rb = RayBox::new(&Ray::new(DVec3::splat(0.5), DVec3::Z));
+        assert_eq!(rb.entry(&unit_box(), 1.0), 0.0);
+    }
+
+    #[test]
+    fn f32_rounding_is_outward() {
+        for x in [0.1f64, -0.1, 1e-30, -1e-30, 1e29, -3.3e29, 7.0, 0.0] {
+            assert!((f32_down(x) as f64) <= x && (f32_up(x) as f64) >= x, "{x}");
+        }
+        let b = Aabb::from_points(DVec3::splat(0.1), DVec3::splat(0.3));
+        let it = Item::new(0, &b).unwrap();
+        for a in 0..3 {
+            assert!((it.bounds[a] as f64) < 0.1 && (it.bounds[a + 3] as f64) > 0.3);
+        }
+        let huge = Aabb::from_points(DVec3::ZERO, DVec3::splat(1e31));
+        assert!(Item::new(0, &huge).is_none());
+        let nan = Aabb {
+            min: DVec3::ZERO,
+            max: DVec3::new(f64::NAN, 1.0, 1.0),
+        };
+        assert!(Item::new(0, &nan).is_none());
+    }
+
+    /// Depth of the deepest leaf, and checks every primitive is in exactly one leaf.
+    fn depth_and_coverage(bvh: &Bvh, n: usize) -> usize {
+        let mut seen = vec![0u32; n];
+        let mut max_depth = 0;
+        let mut todo = vec![(0u32, 0usize)];
+        while let Some((i, d)) = todo.pop() {
+            let node = bvh.node(i);
+            max_depth = max_depth.max(d);
+            if node.count > 0 {
+                let s = node.start as usize;
+                for &p in &bvh.prims[s..s + node.count as usize] {
+                    seen[p as usize] += 1;
+                    assert!(node.count as usize <= MAX_LEAF);
+                }
+            } else {
+                for c in [node.start, node.start + 1] {
+                    let child = bvh.node(c);
+                    for a in 0..3 {
+                        assert!(child.bounds[a] >= node.bounds[a]);
+                        assert!(child.bounds[a + 3] <= node.bounds[a + 3]);
+                    }
+                    todo.push((c, d + 1));
+                }
+            }
+        }
+        assert!(seen.iter().all(|&k| k == 1));
+        max_depth
+    }
+
+    fn sphere_items(n: usize, seed: u64) -> Vec<Item> {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(seed);
+        (0..n)
+            .map(|i| {
+                let c = DVec3::new(rng.random(), rng.random(), rng.random()) * 100.0;
+                let r = DVec3::splat(rng.random_range(0.01..1.0));
+                Item::new(i as u32, &Aabb::from_points(c - r, c + r)).unwrap()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn same_tree_on_one_or_two_threads() {
+        let items = sphere_items(50_000, 1);
+        let on = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| Bvh::build(items.clone()))
+        };
+        let (a, b) = (on(1), on(2));
+        assert_eq!(a.pairs, b.pairs);
+        assert_eq!(a.prims, b.prims);
+        let depth = depth_and_coverage(&a, items.len());
+        assert!(depth < 40, "depth {depth}");
+    }
+
+    #[test]
+    fn depth_stays_within_the_stack() {
+        // Centroids at 2^k: each SAH split peels off only the largest few.
+        let items: Vec<Item> = (-120..99)
+            .flat_map(|k| {
+                let x = 2f64.powi(k);
+                [DVec3::new(x, 0.0, 0.0), DVec3::new(0.0, -x, 0.0)]
+            })
+            .enumerate()
+            .map(|(i, c)| {
+                Item::new(
+                    i as u32,
+                    &Aabb::from_points(c - c.abs() * 0.25, c + c.abs() * 0.25),
+                )
+                .unwrap()
+            })
+            .collect();
+        let n = items.len();
+        let bvh = Bvh::build(items);
+        let depth = depth_and_coverage(&bvh, n);
+        assert!(
+            depth > SAH_MAX_DEPTH,
+            "the median fallback is not exercised"
+        );
+        assert!(depth < STACK_SIZE);
+    }
+
+    #[test]
+    fn node_is_32_bytes() {
+        assert_eq!(size_of::<Node>(), 32);
+        assert_eq!(size_of::<Pair>(), 64);
+    }
+}

@@ -1,0 +1,574 @@
+//! The hierarchy against a brute-force loop over every object: the same
+//! nearest hit (index and distance, lowest index on ties) and the same
+//! any-hit answer, on random and degenerate scenes.
+
+use glam::DVec3;
+use glint::accel::Accel;
+use glint::geometry::{Hit, Plane, Ray, Shape, Sphere, Triangle};
+use glint::scene::{Object, Scene};
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg64;
+
+/// The reference: every object in index order, strict `<` on the distance.
+fn brute_intersect(objects: &[Object], ray: &Ray, t_max: f64) -> Option<(u32, Hit)> {
+    let mut best = None;
+    let mut t_best = t_max;
+    for (i, o) in objects.iter().enumerate() {
+        if let Some(h) = o.shape.intersect(ray, 0.0, t_best) {
+            t_best = h.t;
+            best = Some((i as u32, h));
+        }
+    }
+    best
+}
+
+/// The reference any-hit query.
+fn brute_occluded(objects: &[Object], ray: &Ray, t_max: f64, ignore_light: Option<u32>) -> bool {
+    objects.iter().any(|o| {
+        let skip = ignore_light.is_some() && o.light == ignore_light;
+        !skip && o.shape.intersect(ray, 0.0, t_max).is_some()
+    })
+}
+
+fn object(shape: Shape, light: Option<u32>) -> Object {
+    Object {
+        shape,
+        material: 0,
+        block: light.is_none().then_some(0),
+        light,
+    }
+}
+
+fn sphere(c: DVec3, r: f64) -> Shape {
+    Shape::Sphere(Sphere::new(c, r))
+}
+
+fn triangle(a: DVec3, b: DVec3, c: DVec3) -> Shape {
+    Shape::Triangle(Box::new(Triangle::new(a, b, c, None)))
+}
+
+fn plane(n: DVec3, r: f64) -> Shape {
+    Shape::Plane(Plane::new(n, r, DVec3::X, DVec3::Y))
+}
+
+fn unit_vector(rng: &mut Pcg64) -> DVec3 {
+    loop {
+        let v = DVec3::new(
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+        );
+        let l = v.length_squared();
+        if l > 1e-4 && l <= 1.0 {
+            return v / l.sqrt();
+        }
+    }
+}
+
+fn point_in(rng: &mut Pcg64, half: f64) -> DVec3 {
+    DVec3::new(
+        rng.random_range(-half..half),
+        rng.random_range(-half..half),
+        rng.random_range(-half..half),
+    )
+}
+
+/// A log-uniform size in [lo, hi].
+fn size(rng: &mut Pcg64, lo: f64, hi: f64) -> f64 {
+    (rng.random_range(lo.ln()..hi.ln())).exp()
+}
+
+/// A direction with some components exactly zero (of either sign).
+fn axis_direction(rng: &mut Pcg64) -> DVec3 {
+    let zero = |rng: &mut Pcg64| if rng.random_bool(0.5) { 0.0 } else { -0.0 };
+    let sign = |rng: &mut Pcg64| if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+    let mut v = DVec3::new(zero(rng), zero(rng), zero(rng));
+    let a = rng.random_range(0..3usize);
+    v[a] = sign(rng);
+    if rng.random_bool(0.3) {
+        // In a coordinate plane: one zero component.
+        let b = (a + 1 + rng.random_range(0..2usize)) % 3;
+        v[b] = sign(rng) * rng.random_range(0.1..1.0);
+    }
+    v.normalize()
+}
+
+/// Rays of every kind the renderer makes and some it does not: random,
+/// aimed at objects, axis-aligned, starting exactly on an object's bounds.
+fn random_ray(rng: &mut Pcg64, objects: &[Object], half: f64) -> Ray {
+    let kind = rng.random_range(0..4u32);
+    let target = objects
+        .get(rng.random_range(0..objects.len().max(1)))
+        .and_then(|o| o.shape.bounds());
+    match (kind, target) {
+        (1, Some(b)) => {
+            // Aimed at a point of an object's box.
+            let t = DVec3::new(rng.random(), rng.random(), rng.random());
+            let p = b.min + (b.max - b.min) * t;
+            let o = point_in(rng, half);
+            let d = p - o;
+            if d.length_squared() > 0.0 {
+                Ray::new(o, d.normalize())
+            } else {
+                Ray::new(o, DVec3::X)
+            }
+        }
+        (2, Some(b)) => {
+            // Origin on a face plane of the box, moving along that plane or along an axis.
+            let mut o = point_in(rng, half);
+            let a = rng.random_range(0..3usize);
+            o[a] = if rng.random_bool(0.5) {
+                b.min[a]
+            } else {
+                b.max[a]
+            };
+            let c = b.center();
+            for k in 0..3 {
+                if k != a && rng.random_bool(0.5) {
+                    o[k] = c[k];
+                }
+            }
+            let mut d = axis_direction(rng);
+            d[a] = if rng.random_bool(0.5) { 0.0 } else { -0.0 };
+            if d.length_squared() == 0.0 {
+                d[(a + 1) % 3] = 1.0;
+            }
+            Ray::new(o, d.normalize())
+        }
+        (3, _) => Ray::new(point_in(rng, half), axis_direction(rng)),
+        _ => Ray::new(point_in(rng, half), unit_vector(rng)),
+    }
+}
+
+/// Checks `rays` random rays against brute force: nearest hit with several
+/// t_max, and any-hit with several t_max and light exclusions.
+fn check(objects: &[Object], rays: usize, half: f64, seed: u64) {
+    let accel = Accel::build(objects);
+    assert_eq!(accel.objects().len(), objects.len());
+    let lights: Vec<u32> = objects.iter().filter_map(|o| o.light).collect();
+    let mut rng = Pcg64::seed_from_u64(seed);
+    let mut hits = 0;
+    for n in 0..rays {
+        let ray = random_ray(&mut rng, objects, half);
+        let expected = brute_intersect(objects, &ray, f64::INFINITY);
+        let got = accel.intersect(&ray, f64::INFINITY);
+        assert_eq!(got, expected, "ray {n}: {ray:?}");
+        let mut t_maxes = vec![rng.random_range(0.0..2.0 * half), f64::INFINITY];
+        if let Some((i, h)) = expected {
+            hits += 1;
+            // Exactly at the hit (excluded: strict), just past it, and short of it.
+            t_maxes.extend([h.t, h.t.next_up(), h.t * 0.5]);
+            let l = objects[i as usize].light;
+            assert_eq!(
+                accel.occluded(&ray, h.t.next_up(), l),
+                brute_occluded(objects, &ray, h.t.next_up(), l),
+                "ray {n}: {ray:?}, ignoring the hit object's light {l:?}"
+            );
+        }
+        for &t_max in &t_maxes {
+            let expected = brute_intersect(objects, &ray, t_max);
+            assert_eq!(
+                accel.intersect(&ray, t_max),
+                expected,
+                "ray {n}: {ray:?} t_max {t_max}"
+            );
+            let mut ignores = vec![None];
+            if !lights.is_empty() {
+                ignores.push(Some(lights[rng.random_range(0..lights.len())]));
+            }
+            ignores.push(Some(u32::MAX));
+            for ignore in ignores {
+                assert_eq!(
+                    accel.occluded(&ray, t_max, ignore),
+                    brute_occluded(objects, &ray, t_max, ignore),
+                    "ray {n}: {ray:?} t_max {t_max} ignoring {ignore:?}"
+                );
+            }
+        }
+    }
+    if !objects.is_empty() {
+        // Guards against a generator that misses everything (vacuous test).
+        assert!(hits * 10 >= rays, "only {hits} of {rays} rays hit");
+    }
+}
+
+/// Spheres and triangles of sizes spanning four decades, a few planes, some lights.
+fn mixed_scene(rng: &mut Pcg64, spheres: usize, triangles: usize, planes: usize) -> Vec<Object> {
+    let mut objects = Vec::new();
+    let mut light = 0;
+    let mut flag = |rng: &mut Pcg64| {
+        rng.random_bool(0.05).then(|| {
+            light += 1;
+            light % 7
+        })
+    };
+    for _ in 0..spheres {
+        let c = point_in(rng, 10.0);
+        let r = size(rng, 1e-3, 3.0);
+        let l = flag(rng);
+        objects.push(object(sphere(c, r), l));
+    }
+    for k in 0..triangles {
+        let a = point_in(rng, 10.0);
+        let s = size(rng, 1e-3, 5.0);
+        let (b, c) = if k % 4 == 0 {
+            // Axis-aligned, on integer coordinates: flat boxes, exact faces.
+            let a = a.round();
+            let ax = rng.random_range(0..3usize);
+            let (mut b, mut c) = (a, a);
+            b[(ax + 1) % 3] += s.ceil();
+            c[(ax + 2) % 3] += s.ceil();
+            objects.push(object(triangle(a, b, c), flag(rng)));
+            continue;
+        } else {
+            (a + unit_vector(rng) * s, a + unit_vector(rng) * s)
+        };
+        objects.push(object(triangle(a, b, c), flag(rng)));
+    }
+    for _ in 0..planes {
+        let n = unit_vector(rng);
+        objects.push(object(plane(n, rng.random_range(-12.0..-10.0)), flag(rng)));
+    }
+    // Shuffle so the tree order differs from the index order.
+    for i in (1..objects.len()).rev() {
+        let j = rng.random_range(0..=i);
+        objects.swap(i, j);
+    }
+    objects
+}
+
+#[test]
+fn random_mixed_scene_matches_brute_force() {
+    let mut rng = Pcg64::seed_from_u64(1);
+    let objects = mixed_scene(&mut rng, 3000, 3000, 3);
+    check(&objects, 2000, 14.0, 2);
+}
+
+#[test]
+fn small_random_scenes_match_brute_force() {
+    let mut rng = Pcg64::seed_from_u64(3);
+    for n in 0..60 {
+        let objects = mixed_scene(&mut rng, n, n / 2, n % 3);
+        check(&objects, 200, 14.0, 100 + n as u64);
+    }
+}
+
+#[test]
+fn empty_scene_hits_nothing() {
+    let accel = Accel::build(&[]);
+    let ray = Ray::new(DVec3::ZERO, DVec3::X);
+    assert!(accel.intersect(&ray, f64::INFINITY).is_none());
+    assert!(!accel.occluded(&ray, f64::INFINITY, None));
+    assert!(accel.objects().is_empty());
+}
+
+#[test]
+fn one_object_of_each_kind() {
+    for (shape, t) in [
+        (sphere(DVec3::new(0.0, 5.0, 0.0), 1.0), 4.0),
+        (
+            triangle(
+                DVec3::new(-1.0, 5.0, -1.0),
+                DVec3::new(1.0, 5.0, -1.0),
+                DVec3::new(0.0, 5.0, 1.0),
+            ),
+            5.0,
+        ),
+        (plane(DVec3::Y, 5.0), 5.0),
+    ] {
+        let objects = vec![object(shape, Some(0))];
+        let accel = Accel::build(&objects);
+        let ray = Ray::new(DVec3::ZERO, DVec3::Y);
+        let (i, h) = accel.intersect(&ray, f64::INFINITY).unwrap();
+        assert_eq!((i, h.t), (0, t));
+        assert!(accel.intersect(&ray, h.t).is_none());
+        assert!(accel.occluded(&ray, 10.0, None));
+        assert!(accel.occluded(&ray, 10.0, Some(1)));
+        assert!(!accel.occluded(&ray, 10.0, Some(0)));
+        assert!(!accel.occluded(&ray, h.t, None));
+        check(&objects, 300, 8.0, 5);
+    }
+}
+
+#[test]
+fn only_planes() {
+    let mut rng = Pcg64::seed_from_u64(6);
+    let objects: Vec<_> = (0..20)
+        .map(|k| {
+            object(
+                plane(unit_vector(&mut rng), rng.random_range(-5.0..5.0)),
+                (k % 3 == 0).then_some(k),
+            )
+        })
+        .collect();
+    check(&objects, 2000, 6.0, 7);
+}
+
+#[test]
+fn all_objects_at_one_centroid() {
+    let mut rng = Pcg64::seed_from_u64(8);
+    let c = DVec3::new(1.0, -2.0, 3.0);
+    let mut objects = Vec::new();
+    for k in 0..400 {
+        let r = size(&mut rng, 1e-3, 4.0);
+        objects.push(object(sphere(c, r), (k % 5 == 0).then_some(k % 3)));
+        // Triangles centred on c: vertices c + u, c + v, c - u - v.
+        let u = unit_vector(&mut rng) * r;
+        let v = unit_vector(&mut rng) * r;
+        objects.push(object(triangle(c + u, c + v, c - u - v), None));
+    }
+    // Identical copies: every ray that hits one hits all at the same t; the lowest index wins.
+    for _ in 0..50 {
+        objects.push(object(sphere(c, 0.5), None));
+    }
+    check(&objects, 2000, 6.0, 9);
+    let accel = Accel::build(&objects);
+    let ray = Ray::new(c - DVec3::new(10.0, 0.0, 0.0), DVec3::X);
+    let (i, h) = accel.intersect(&ray, f64::INFINITY).unwrap();
+    assert_eq!(
+        (i, h),
+        brute_intersect(&objects, &ray, f64::INFINITY).unwrap()
+    );
+}
+
+#[test]
+fn identical_objects_tie_to_lowest_index() {
+    // 300 copies of the same sphere spread through the list among other spheres.
+    let mut rng = Pcg64::seed_from_u64(10);
+    let mut objects = Vec::new();
+    for k in 0..3000 {
+        if k % 10 == 3 {
+            objects.push(object(sphere(DVec3::ZERO, 1.0), None));
+        } else {
+            objects.push(object(sphere(point_in(&mut rng, 20.0), 0.2), None));
+        }
+    }
+    let accel = Accel::build(&objects);
+    let ray = Ray::new(DVec3::new(0.0, 0.0, -0.5), DVec3::Z);
+    assert_eq!(
+        accel.intersect(&ray, f64::INFINITY).map(|(i, h)| (i, h.t)),
+        Some((3, 1.5))
+    );
+    check(&objects, 2000, 22.0, 11);
+}
+
+#[test]
+fn shared_edges_and_vertices_tie_to_lowest_index() {
+    // A height field on an integer grid: rays straight down onto vertices and
+    // edges hit up to six triangles at the same distance.
+    let n = 40;
+    let h = |i: i32, j: i32| ((i * 7 + j * 3) % 5) as f64 * 0.25;
+    let p = |i: i32, j: i32| DVec3::new(i as f64, j as f64, h(i, j));
+    let mut objects = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            objects.push(object(
+                triangle(p(i, j), p(i + 1, j), p(i + 1, j + 1)),
+                None,
+            ));
+            objects.push(object(
+                triangle(p(i, j), p(i + 1, j + 1), p(i, j + 1)),
+                None,
+            ));
+        }
+    }
+    let accel = Accel::build(&objects);
+    let mut rng = Pcg64::seed_from_u64(12);
+    let mut ties = 0;
+    for _ in 0..4000 {
+        let x = rng.random_range(0..=2 * n) as f64 * 0.5;
+        let y = rng.random_range(0..=2 * n) as f64 * 0.5;
+        let ray = Ray::new(DVec3::new(x, y, 5.0), DVec3::new(0.0, -0.0, -1.0));
+        let expected = brute_intersect(&objects, &ray, f64::INFINITY);
+        if let Some((_, hit)) = expected {
+            let at_t = objects
+                .iter()
+                .filter(|o| o.shape.intersect(&ray, 0.0, f64::INFINITY).map(|g| g.t) == Some(hit.t))
+                .count();
+            ties += (at_t > 1) as u32;
+        }
+        assert_eq!(accel.intersect(&ray, f64::INFINITY), expected, "{ray:?}");
+        assert_eq!(
+            accel.occluded(&ray, 6.0, None),
+            brute_occluded(&objects, &ray, 6.0, None)
+        );
+    }
+    assert!(ties > 1000, "only {ties} ties");
+    check(&objects, 2000, n as f64, 13);
+}
+
+#[test]
+fn huge_and_tiny_objects_mixed() {
+    // The framework's Cornell box: walls are spheres of radius 1e5; add
+    // specks of 1e-5 and ordinary objects.
+    let mut rng = Pcg64::seed_from_u64(14);
+    let mut objects = Vec::new();
+    let r = 1e5;
+    for (a, s) in [
+        (0, 1.0),
+        (0, -1.0),
+        (1, 1.0),
+        (1, -1.0),
+        (2, 1.0),
+        (2, -1.0),
+    ] {
+        let mut c = DVec3::ZERO;
+        c[a] = s * (r + 10.0);
+        objects.push(object(sphere(c, r), None));
+    }
+    for k in 0..2000 {
+        let c = point_in(&mut rng, 9.0);
+        let s = if k % 2 == 0 {
+            size(&mut rng, 1e-6, 1e-4)
+        } else {
+            size(&mut rng, 0.1, 2.0)
+        };
+        objects.push(object(sphere(c, s), (k % 11 == 0).then_some(1)));
+    }
+    // A giant triangle and a huge far sphere.
+    objects.push(object(
+        triangle(
+            DVec3::new(-1e6, -1e6, -9.0),
+            DVec3::new(1e6, -1e6, -9.0),
+            DVec3::new(0.0, 1e6, -9.0),
+        ),
+        None,
+    ));
+    objects.push(object(sphere(DVec3::splat(1e12), 1e11), None));
+    check(&objects, 3000, 9.5, 15);
+    // Specks are found when aimed at.
+    let accel = Accel::build(&objects);
+    for (i, o) in objects.iter().enumerate().skip(6).step_by(2).take(500) {
+        let Shape::Sphere(s) = &o.shape else {
+            unreachable!()
+        };
+        let ray = Ray::new(
+            DVec3::new(0.5, 0.25, 0.125),
+            (s.center - DVec3::new(0.5, 0.25, 0.125)).normalize(),
+        );
+        let expected = brute_intersect(&objects, &ray, f64::INFINITY);
+        assert_eq!(accel.intersect(&ray, f64::INFINITY), expected, "speck {i}");
+    }
+}
+
+#[test]
+fn geometric_progression_builds_a_deep_tree() {
+    // Centroids at 2^k: each SAH split peels off a few, so the depth limit's
+    // median splits take over.
+    let mut objects = Vec::new();
+    for k in -120..99 {
+        let x = 2f64.powi(k);
+        objects.push(object(sphere(DVec3::new(x, 0.0, 0.0), x * 0.25), None));
+        objects.push(object(sphere(DVec3::new(0.0, -x, 0.0), x * 0.25), Some(0)));
+    }
+    let accel = Accel::build(&objects);
+    let mut rng = Pcg64::seed_from_u64(16);
+    for (i, o) in objects.iter().enumerate() {
+        let Shape::Sphere(s) = &o.shape else {
+            unreachable!()
+        };
+        for _ in 0..4 {
+            let from = s.center + unit_vector(&mut rng) * s.radius * 3.0;
+            let ray = Ray::new(from, (s.center - from).normalize());
+            let expected = brute_intersect(&objects, &ray, f64::INFINITY);
+            assert!(expected.is_some());
+            assert_eq!(accel.intersect(&ray, f64::INFINITY), expected, "sphere {i}");
+            let t = expected.unwrap().1.t;
+            assert_eq!(
+                accel.occluded(&ray, t.next_up(), Some(0)),
+                brute_occluded(&objects, &ray, t.next_up(), Some(0))
+            );
+        }
+    }
+}
+
+#[test]
+fn scene_built_in_code_with_area_lights() {
+    // Lights' visible surfaces come from Scene::add_light and are skipped by
+    // occluded() for their own light only.
+    use glint::scene::{Light, LightKind};
+    let mut scene = Scene::empty();
+    let m = scene.add_material(Default::default());
+    let mut rng = Pcg64::seed_from_u64(17);
+    for b in 0..500 {
+        scene.add_object(
+            sphere(point_in(&mut rng, 8.0), size(&mut rng, 0.01, 1.0)),
+            m,
+            b,
+        );
+    }
+    for _ in 0..20 {
+        let c = point_in(&mut rng, 8.0);
+        if rng.random_bool(0.5) {
+            scene.add_light(Light {
+                kind: LightKind::Sphere {
+                    center: c,
+                    radius: 0.5,
+                },
+                color: DVec3::ONE,
+            });
+        } else {
+            scene.add_light(Light {
+                kind: LightKind::Square {
+                    center: c,
+                    dx: DVec3::X * 0.7,
+                    dy: DVec3::Y * 0.4,
+                },
+                color: DVec3::ONE,
+            });
+        }
+    }
+    check(&scene.objects, 2000, 10.0, 18);
+}
+
+#[test]
+fn large_scene_built_on_threads_matches_brute_force() {
+    // Big enough for several levels of parallel build.
+    let mut rng = Pcg64::seed_from_u64(19);
+    let objects = mixed_scene(&mut rng, 25_000, 25_000, 2);
+    let accel = Accel::build(&objects);
+    let mut hits = 0;
+    for n in 0..400 {
+        let ray = random_ray(&mut rng, &objects, 14.0);
+        let expected = brute_intersect(&objects, &ray, f64::INFINITY);
+        hits += expected.is_some() as u32;
+        assert_eq!(
+            accel.intersect(&ray, f64::INFINITY),
+            expected,
+            "ray {n}: {ray:?}"
+        );
+        let t_max = rng.random_range(0.0..3.0);
+        assert_eq!(
+            accel.occluded(&ray, t_max, Some(3)),
+            brute_occluded(&objects, &ray, t_max, Some(3)),
+            "ray {n}: {ray:?}"
+        );
+    }
+    assert!(hits > 300);
+}
+
+#[test]
+fn astronomic_and_nan_objects_are_tested_too() {
+    // Bounds beyond f32 range or not finite keep an object out of the tree;
+    // it must still be found (or, for NaN, never reported).
+    let far = DVec3::new(4e31, 0.0, 0.0);
+    let objects = vec![
+        object(sphere(DVec3::new(f64::NAN, 0.0, 0.0), 1.0), None),
+        object(sphere(DVec3::new(5.0, 3.0, 0.0), 1.0), None),
+        object(sphere(far, 1e31), Some(2)),
+        object(sphere(DVec3::new(0.0, 0.0, 5.0), f64::INFINITY), None),
+        object(sphere(DVec3::new(5.0, -3.0, 0.0), 1.0), None),
+    ];
+    let accel = Accel::build(&objects);
+    let ray = Ray::new(DVec3::ZERO, DVec3::X);
+    let (i, h) = accel.intersect(&ray, f64::INFINITY).unwrap();
+    assert_eq!(
+        (i, h),
+        brute_intersect(&objects, &ray, f64::INFINITY).unwrap()
+    );
+    assert_eq!(i, 2);
+    assert!((h.t - 3e31).abs() <= 3e31 * 1e-12);
+    assert!(accel.occluded(&ray, f64::INFINITY, None));
+    assert!(!accel.occluded(&ray, f64::INFINITY, Some(2)));
+    check(&objects, 1000, 10.0, 20);
+}
