@@ -227,7 +227,10 @@ fn sphere_keys() {
     let Shape::Sphere(sp) = &s.objects[0].shape else {
         panic!("not a sphere")
     };
-    assert_eq!((sp.center, sp.de(), sp.dc()), (DVec3::ZERO, DVec3::Z, DVec3::Y));
+    assert_eq!(
+        (sp.center, sp.de(), sp.dc()),
+        (DVec3::ZERO, DVec3::Z, DVec3::Y)
+    );
 }
 
 #[test]

@@ -140,12 +140,13 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
     if !args.quiet {
         let r = stats.rays;
         eprintln!(
-            "{}: {}x{}, {:.2} s wall ({:.2} s render), {:.1} M rays, {:.1} Mrays/s",
+            "{}: {}x{}, {:.2} s wall ({:.2} s render, {:.2} s BVH), {:.1} M rays, {:.1} Mrays/s",
             output.display(),
             w,
             h,
             start.elapsed().as_secs_f64(),
             stats.elapsed.as_secs_f64(),
+            stats.build.as_secs_f64(),
             r.total() as f64 / 1e6,
             stats.mrays_per_sec()
         );

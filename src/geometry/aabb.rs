@@ -69,42 +69,11 @@ impl Aabb {
             max: self.max + DVec3::splat(pad),
         }
     }
-
-    /// The parametric interval (t0, t1) where a ray with precomputed inverse
-    /// direction is inside the box, clipped to (t_min, t_max); `None` if empty.
-    #[inline]
-    pub fn hit_interval(
-        &self,
-        origin: DVec3,
-        inv_dir: DVec3,
-        t_min: f64,
-        t_max: f64,
-    ) -> Option<(f64, f64)> {
-        let a = (self.min - origin) * inv_dir;
-        let b = (self.max - origin) * inv_dir;
-        // min/max in this order drop the NaN from 0 * inf (origin on a slab face).
-        let lo = a.min(b);
-        let hi = a.max(b);
-        let t0 = lo.max_element().max(t_min);
-        let t1 = hi.min_element().min(t_max);
-        (t0 <= t1).then_some((t0, t1))
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn interval_of_axis_ray_matches_slabs() {
-        let b = Aabb::from_points(DVec3::new(-1.0, -2.0, -3.0), DVec3::new(1.0, 2.0, 3.0));
-        let o = DVec3::new(-5.0, 0.5, 0.5);
-        let inv = DVec3::ONE / DVec3::X;
-        let (t0, t1) = b.hit_interval(o, inv, 0.0, f64::INFINITY).unwrap();
-        assert_eq!((t0, t1), (4.0, 6.0));
-        let o = DVec3::new(-5.0, 2.5, 0.5);
-        assert!(b.hit_interval(o, inv, 0.0, f64::INFINITY).is_none());
-    }
 
     #[test]
     fn area_and_union() {

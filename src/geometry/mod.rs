@@ -140,6 +140,16 @@ impl Shape {
         }
     }
 
+    /// [`Shape::surface`] without the texture coordinates (left at zero), for
+    /// untextured materials: spares spheres their trigonometry.
+    #[inline]
+    pub fn surface_untextured(&self, ray: &Ray, hit: &Hit) -> SurfacePoint {
+        match self {
+            Shape::Sphere(s) => s.surface_untextured(ray, hit),
+            _ => self.surface(ray, hit),
+        }
+    }
+
     /// World-space bounds, or `None` for unbounded shapes (planes).
     pub fn bounds(&self) -> Option<Aabb> {
         match self {
@@ -197,6 +207,10 @@ mod tests {
     /// sphere's size because the larger kinds are boxed.
     #[test]
     fn shape_stays_small() {
-        assert!(std::mem::size_of::<Shape>() <= 48, "{}", std::mem::size_of::<Shape>());
+        assert!(
+            std::mem::size_of::<Shape>() <= 48,
+            "{}",
+            std::mem::size_of::<Shape>()
+        );
     }
 }

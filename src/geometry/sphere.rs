@@ -83,13 +83,23 @@ impl Sphere {
 
     /// Point, outward normal and texture coordinates at a hit.
     pub fn surface(&self, ray: &Ray, hit: &Hit) -> SurfacePoint {
+        let s = self.surface_untextured(ray, hit);
+        SurfacePoint {
+            uv: self.uv(s.normal),
+            ..s
+        }
+    }
+
+    /// Point and outward normal at a hit, texture coordinates left at zero.
+    #[inline]
+    pub fn surface_untextured(&self, ray: &Ray, hit: &Hit) -> SurfacePoint {
         let point = ray.at(hit.t);
         let normal = ((point - self.center) / self.radius).normalize();
         SurfacePoint {
             point,
             normal,
             shading_normal: normal,
-            uv: self.uv(normal),
+            uv: DVec2::ZERO,
         }
     }
 

@@ -109,7 +109,12 @@ impl<'a> Tracer<'a> {
         if let Some(light) = object.light {
             return scene.lights[light as usize].color.min(DVec3::ONE);
         }
-        let surface = object.shape.surface(ray, &hit);
+        let m = &scene.materials[object.material as usize];
+        let surface = if m.texture.is_some() {
+            object.shape.surface(ray, &hit)
+        } else {
+            object.shape.surface_untextured(ray, &hit)
+        };
         let point = surface.point;
         let front = surface.normal.dot(ray.dir) < 0.0;
         // Normals facing the ray: geometric (for nudging new rays) and shading.
@@ -118,7 +123,6 @@ impl<'a> Tracer<'a> {
         } else {
             (-surface.normal, -surface.shading_normal)
         };
-        let m = &scene.materials[object.material as usize];
         let mut color = DVec3::ZERO;
 
         if m.diff > 0.0 || m.spec > 0.0 {

@@ -34,8 +34,10 @@ pub struct RenderOptions {
 pub struct RenderStats {
     /// Rays traced, by kind.
     pub rays: RayCounts,
-    /// Wall time of the render (not counting parsing).
+    /// Wall time of the render (not counting parsing), the BVH build included.
     pub elapsed: Duration,
+    /// Wall time of the acceleration-structure build.
+    pub build: Duration,
     /// Pixels re-rendered by the adaptive anti-aliasing.
     pub refined_pixels: u64,
 }
@@ -64,7 +66,7 @@ pub fn render_with_progress(
 ) -> (Image, RenderStats) {
     let start = Instant::now();
     let run = || render_inner(scene, options, progress);
-    let (image, rays, refined) = match options.threads {
+    let (image, rays, refined, build) = match options.threads {
         Some(n) => match rayon::ThreadPoolBuilder::new()
             .num_threads(n.max(1))
             .build()
@@ -77,6 +79,7 @@ pub fn render_with_progress(
     let stats = RenderStats {
         rays,
         elapsed: start.elapsed(),
+        build,
         refined_pixels: refined,
     };
     (image, stats)
@@ -129,9 +132,11 @@ fn render_inner(
     scene: &Scene,
     options: &RenderOptions,
     progress: &(dyn Fn(u64, u64) + Sync),
-) -> (Image, RayCounts, u64) {
+) -> (Image, RayCounts, u64, Duration) {
     let (w, h) = (scene.camera.width, scene.camera.height);
+    let build_start = Instant::now();
     let accel = Accel::build(&scene.objects);
+    let build = build_start.elapsed();
     let frame = Frame {
         tracer: Tracer::new(scene, &accel),
         camera: CameraRays::new(&scene.camera, w, h),
@@ -242,7 +247,7 @@ fn render_inner(
             rays.add(r);
         }
     }
-    (Image::from_pixels(w, h, pixels), rays, refined)
+    (Image::from_pixels(w, h, pixels), rays, refined, build)
 }
 
 #[inline]

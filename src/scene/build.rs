@@ -415,12 +415,7 @@ fn describe(name: &str, kind: Kind) -> &'static str {
 }
 
 /// Parses an entry's values as `kind`, reporting what is wrong.
-fn parse_entry(
-    e: &Entry<'_>,
-    name: &'static str,
-    kind: Kind,
-    diags: &mut Diags<'_>,
-) -> Option<Field> {
+fn parse_entry(e: &Entry<'_>, name: &'static str, kind: Kind, diags: &mut Diags) -> Option<Field> {
     let line = e.line;
     let site = match e.values.last() {
         Some(last) => Site {
@@ -594,7 +589,7 @@ impl<'p> Builder<'p> {
         header: Site,
         entries: &[Entry<'_>],
         index: u32,
-        diags: &mut Diags<'_>,
+        diags: &mut Diags,
     ) {
         let mut fields = Fields::default();
         for e in entries {
@@ -637,7 +632,7 @@ impl<'p> Builder<'p> {
         }
     }
 
-    fn background(&mut self, b: &mut Block<'_, '_>) {
+    fn background(&mut self, b: &mut Block<'_>) {
         self.backgrounds += 1;
         if self.backgrounds == 2 {
             b.diags.warn(
@@ -671,7 +666,7 @@ impl<'p> Builder<'p> {
         self.scene.background = bg;
     }
 
-    fn camera(&mut self, b: &mut Block<'_, '_>) {
+    fn camera(&mut self, b: &mut Block<'_>) {
         self.cameras += 1;
         if self.cameras == 2 {
             b.diags.warn(
@@ -767,7 +762,7 @@ impl<'p> Builder<'p> {
         self.scene.camera = cam;
     }
 
-    fn light(&mut self, t: LightType, b: &mut Block<'_, '_>) {
+    fn light(&mut self, t: LightType, b: &mut Block<'_>) {
         let errors = b.diags.error_count();
         let color = match b.fields.v3("color") {
             Some((c, _)) => c,
@@ -804,7 +799,7 @@ impl<'p> Builder<'p> {
         }
     }
 
-    fn primitive(&mut self, t: PrimitiveType, index: u32, b: &mut Block<'_, '_>) {
+    fn primitive(&mut self, t: PrimitiveType, index: u32, b: &mut Block<'_>) {
         use PrimitiveType as P;
         let errors = b.diags.error_count();
         let material = self.material(b);
@@ -817,9 +812,9 @@ impl<'p> Builder<'p> {
                 let de = b.direction("De", DVec3::Z, textured);
                 let dc = b.direction("Dc", DVec3::Y, textured);
                 match (r, de, dc) {
-                    (Some(r), Some(de), Some(dc)) => {
-                        Some(vec![Shape::Sphere(Sphere::with_orientation(origin, r, de, dc))])
-                    }
+                    (Some(r), Some(de), Some(dc)) => Some(vec![Shape::Sphere(
+                        Sphere::with_orientation(origin, r, de, dc),
+                    )]),
                     _ => None,
                 }
             }
@@ -853,7 +848,7 @@ impl<'p> Builder<'p> {
         }
     }
 
-    fn material(&mut self, b: &mut Block<'_, '_>) -> Option<Material> {
+    fn material(&mut self, b: &mut Block<'_>) -> Option<Material> {
         let f = &b.fields;
         let num = |k: &str, d: f64| f.num(k).map_or(d, |(x, _)| x);
         let mut m = Material {
@@ -937,7 +932,7 @@ impl<'p> Builder<'p> {
     }
 
     /// Reports a file that was not found.
-    fn not_found(what: &str, name: &str, tried: &[PathBuf], site: Site, diags: &mut Diags<'_>) {
+    fn not_found(what: &str, name: &str, tried: &[PathBuf], site: Site, diags: &mut Diags) {
         let tried = tried
             .iter()
             .map(|p| format!("`{}`", p.display()))
@@ -952,7 +947,7 @@ impl<'p> Builder<'p> {
         );
     }
 
-    fn texture(&mut self, name: &str, site: Site, diags: &mut Diags<'_>) -> Option<u32> {
+    fn texture(&mut self, name: &str, site: Site, diags: &mut Diags) -> Option<u32> {
         let (path, found) = match self.resolve(name) {
             Ok(p) => p,
             Err(tried) => {
@@ -987,7 +982,7 @@ impl<'p> Builder<'p> {
         }
     }
 
-    fn mesh(&mut self, b: &mut Block<'_, '_>) -> Option<Vec<Shape>> {
+    fn mesh(&mut self, b: &mut Block<'_>) -> Option<Vec<Shape>> {
         let (name, site) = match b.fields.text("file") {
             Some((n, s)) => (n.to_string(), s),
             None => {
@@ -1054,14 +1049,14 @@ impl<'p> Builder<'p> {
 }
 
 /// One block being built: its kind, header, parsed keys, and the diagnostics.
-struct Block<'d, 'a> {
+struct Block<'d> {
     kind: BlockKind,
     header: Site,
     fields: Fields,
-    diags: &'d mut Diags<'a>,
+    diags: &'d mut Diags,
 }
 
-impl Block<'_, '_> {
+impl Block<'_> {
     /// A required vector key; reports its absence at the header.
     fn need_v3(&mut self, key: &str, what: &str) -> Option<(DVec3, Site)> {
         let v = self.fields.v3(key);
@@ -1245,7 +1240,7 @@ impl Block<'_, '_> {
 }
 
 /// A plane: a non-zero normal, and texture axes (defaults in the module docs).
-fn plane(b: &mut Block<'_, '_>, textured: bool) -> Option<Plane> {
+fn plane(b: &mut Block<'_>, textured: bool) -> Option<Plane> {
     let (n, site) = b.need_v3("N", "its normal")?;
     let Some(n) = unit(n) else {
         b.diags
@@ -1266,7 +1261,7 @@ fn plane(b: &mut Block<'_, '_>, textured: bool) -> Option<Plane> {
 
 /// A cube: Dx, Dy made orthonormal (Gram–Schmidt, keeping Dx's direction),
 /// with a warning where the input was not already so.
-fn cube(b: &mut Block<'_, '_>, origin: DVec3) -> Option<Cube> {
+fn cube(b: &mut Block<'_>, origin: DVec3) -> Option<Cube> {
     let dx = b.fields.v3("Dx");
     let dy = b.fields.v3("Dy");
     let hx = b.half_length("x");
@@ -1318,7 +1313,7 @@ fn cube(b: &mut Block<'_, '_>, origin: DVec3) -> Option<Cube> {
 }
 
 /// A Bézier surface of revolution: an axis and at least two control points.
-fn bezier(b: &mut Block<'_, '_>) -> Option<Bezier> {
+fn bezier(b: &mut Block<'_>) -> Option<Bezier> {
     let axis = b.axis();
     let points: Vec<(DVec2, Site)> = b
         .fields
@@ -1350,7 +1345,7 @@ fn bezier(b: &mut Block<'_, '_>) -> Option<Bezier> {
 }
 
 /// A triangle whose corners are not collinear.
-fn triangle(b: &mut Block<'_, '_>) -> Option<Triangle> {
+fn triangle(b: &mut Block<'_>) -> Option<Triangle> {
     let p0 = b.need_v3("O1", "the first corner");
     let p1 = b.need_v3("O2", "the second corner");
     let p2 = b.need_v3("O3", "the third corner");

@@ -42,36 +42,28 @@ pub(crate) struct Line<'a> {
     pub words: Vec<Word<'a>>,
 }
 
-/// Splits `text` into lines (`\n`, `\r\n` or a lone `\r` end a line).
-pub(crate) fn split_lines(text: &str) -> Vec<&str> {
-    let mut lines = Vec::new();
+/// Splits `text` into lines (`\n`, `\r\n` or a lone `\r` end a line),
+/// lazily: a million-primitive file is never held as a list of lines.
+pub(crate) fn split_lines(text: &str) -> impl Iterator<Item = &str> {
     let bytes = text.as_bytes();
     let mut start = 0;
-    let mut i = 0;
-    while i < bytes.len() {
-        match bytes[i] {
-            b'\n' => {
-                lines.push(&text[start..i]);
-                i += 1;
-                start = i;
-            }
-            b'\r' => {
-                lines.push(&text[start..i]);
-                i += if bytes.get(i + 1) == Some(&b'\n') {
-                    2
-                } else {
-                    1
-                };
-                start = i;
-            }
-            _ => i += 1,
+    std::iter::from_fn(move || {
+        // A final line without a line break still counts; an empty tail does not.
+        if start >= bytes.len() {
+            return None;
         }
-    }
-    // A final line without a line break still counts; an empty tail does not.
-    if start < bytes.len() {
-        lines.push(&text[start..]);
-    }
-    lines
+        let rest = &bytes[start..];
+        let (line_end, next) = match rest.iter().position(|&b| b == b'\n' || b == b'\r') {
+            Some(k) if rest[k] == b'\r' && rest.get(k + 1) == Some(&b'\n') => {
+                (start + k, start + k + 2)
+            }
+            Some(k) => (start + k, start + k + 1),
+            None => (bytes.len(), bytes.len()),
+        };
+        let line = &text[start..line_end];
+        start = next;
+        Some(line)
+    })
 }
 
 /// The words of one line. A comment starts at any `#`, or at `//` at the
@@ -118,16 +110,13 @@ fn close<'a>(
     }
 }
 
-/// Lexes a whole file (a leading byte-order mark is skipped).
-pub(crate) fn lex(text: &str) -> Vec<Line<'_>> {
+/// Lexes a whole file line by line (a leading byte-order mark is skipped).
+pub(crate) fn lex(text: &str) -> impl Iterator<Item = Line<'_>> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    split_lines(text)
-        .into_iter()
-        .map(|l| Line {
-            text: l,
-            words: words(l),
-        })
-        .collect()
+    split_lines(text).map(|l| Line {
+        text: l,
+        words: words(l),
+    })
 }
 
 #[cfg(test)]
@@ -168,10 +157,13 @@ mod tests {
 
     #[test]
     fn line_breaks() {
-        assert_eq!(split_lines("a\r\nb\rc\nd"), vec!["a", "b", "c", "d"]);
-        assert_eq!(split_lines("a\n"), vec!["a"]);
-        assert_eq!(split_lines("a\n\n"), vec!["a", ""]);
-        assert_eq!(split_lines(""), Vec::<&str>::new());
+        assert_eq!(
+            split_lines("a\r\nb\rc\nd").collect::<Vec<_>>(),
+            vec!["a", "b", "c", "d"]
+        );
+        assert_eq!(split_lines("a\n").collect::<Vec<_>>(), vec!["a"]);
+        assert_eq!(split_lines("a\n\n").collect::<Vec<_>>(), vec!["a", ""]);
+        assert_eq!(split_lines("").count(), 0);
     }
 
     #[test]

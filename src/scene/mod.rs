@@ -287,9 +287,9 @@ impl Scene {
         let index = self.lights.len() as u32;
         let shape = match light.kind {
             LightKind::Point { .. } => None,
-            LightKind::Square { center, dx, dy } => {
-                Some(Shape::Square(Box::new(crate::geometry::Square::new(center, dx, dy))))
-            }
+            LightKind::Square { center, dx, dy } => Some(Shape::Square(Box::new(
+                crate::geometry::Square::new(center, dx, dy),
+            ))),
             LightKind::Sphere { center, radius } => {
                 Some(Shape::Sphere(crate::geometry::Sphere::new(center, radius)))
             }

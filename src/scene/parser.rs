@@ -53,28 +53,25 @@ impl Site {
 }
 
 /// Collects diagnostics, turning [`Site`]s into file/line/column/excerpt.
-pub(crate) struct Diags<'a> {
+/// The excerpts (`source_line`) are filled in one pass over the text at the
+/// end, so reading keeps nothing per line of the file.
+pub(crate) struct Diags {
     file: String,
-    lines: &'a [Line<'a>],
     out: Vec<Diagnostic>,
     errors: usize,
 }
 
-impl<'a> Diags<'a> {
-    fn new(file: String, lines: &'a [Line<'a>]) -> Self {
+impl Diags {
+    fn new(file: String) -> Self {
         Diags {
             file,
-            lines,
             out: Vec::new(),
             errors: 0,
         }
     }
 
     fn push(&mut self, severity: Severity, site: Site, message: String, help: Option<String>) {
-        let source_line = self
-            .lines
-            .get(site.line)
-            .map_or(String::new(), |l| l.text.to_string());
+        let source_line = String::new();
         if severity == Severity::Error {
             self.errors += 1;
         }
@@ -103,6 +100,25 @@ impl<'a> Diags<'a> {
     /// Number of errors so far.
     pub fn error_count(&self) -> usize {
         self.errors
+    }
+
+    /// The diagnostics in file order, each with the text of its line.
+    fn into_sorted(self, text: &str) -> Vec<Diagnostic> {
+        let mut all = self.out;
+        // Stable: diagnostics found at the same place keep the order they were found in.
+        all.sort_by_key(|d| (d.line, d.column));
+        let mut next = all.iter_mut().peekable();
+        for (i, line) in lexer::lex(text).enumerate() {
+            while let Some(d) = next.next_if(|d| d.line <= i + 1) {
+                if d.line == i + 1 {
+                    d.source_line = line.text.to_string();
+                }
+            }
+            if next.peek().is_none() {
+                break;
+            }
+        }
+        all
     }
 }
 
@@ -136,16 +152,16 @@ struct Open<'a> {
 }
 
 pub(super) fn parse_str(text: &str, path: Option<&Path>, base: &Path) -> Result<Scene, SceneError> {
-    let lines = lexer::lex(text);
     let file = path.map_or_else(|| "<input>".to_string(), |p| p.display().to_string());
-    let mut diags = Diags::new(file, &lines);
+    let mut diags = Diags::new(file);
     let mut builder = Builder::new(base, path);
     let mut open: Option<Open<'_>> = None;
     // After text outside a block, stay quiet until the next header: one
     // error per misspelt header, not one per line of its block.
     let mut skipping = false;
 
-    for (i, line) in lines.iter().enumerate() {
+    for (i, line) in lexer::lex(text).enumerate() {
+        let line = &line;
         let Some(first) = line.words.first() else {
             continue;
         };
@@ -218,9 +234,7 @@ pub(super) fn parse_str(text: &str, path: Option<&Path>, base: &Path) -> Result<
 
     let mut scene = builder.finish();
     let errors = diags.error_count();
-    let mut all = diags.out;
-    // Stable: diagnostics found at the same place keep the order they were found in.
-    all.sort_by_key(|d| (d.line, d.column));
+    let all = diags.into_sorted(text);
     if errors > 0 {
         return Err(SceneError { diagnostics: all });
     }
@@ -233,7 +247,7 @@ pub(super) fn parse_str(text: &str, path: Option<&Path>, base: &Path) -> Result<
 fn header<'a>(
     i: usize,
     line: &Line<'a>,
-    diags: &mut Diags<'_>,
+    diags: &mut Diags,
     builder: &mut Builder<'_>,
 ) -> Option<Open<'a>> {
     let first = line.words.first()?;
@@ -306,7 +320,7 @@ fn header<'a>(
 }
 
 /// Reads one line inside a block into an [`Entry`] (or diagnoses it).
-fn read_line<'a>(block: &mut Open<'a>, i: usize, line: &Line<'a>, diags: &mut Diags<'_>) {
+fn read_line<'a>(block: &mut Open<'a>, i: usize, line: &Line<'a>, diags: &mut Diags) {
     let Some(kind) = block.kind else {
         return;
     };
@@ -362,7 +376,7 @@ fn read_line<'a>(block: &mut Open<'a>, i: usize, line: &Line<'a>, diags: &mut Di
 }
 
 /// A line inside a block whose first word is not `key=`.
-fn bare_word(kind: BlockKind, i: usize, line: &Line<'_>, diags: &mut Diags<'_>) {
+fn bare_word(kind: BlockKind, i: usize, line: &Line<'_>, diags: &mut Diags) {
     let Some(first) = line.words.first() else {
         return;
     };
@@ -419,7 +433,7 @@ fn bare_word(kind: BlockKind, i: usize, line: &Line<'_>, diags: &mut Diags<'_>) 
 }
 
 /// Hands a complete block to the builder.
-fn finish(block: Open<'_>, builder: &mut Builder<'_>, diags: &mut Diags<'_>) {
+fn finish(block: Open<'_>, builder: &mut Builder<'_>, diags: &mut Diags) {
     if let Some(kind) = block.kind {
         builder.block(
             kind,

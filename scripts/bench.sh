@@ -1,0 +1,97 @@
+#!/usr/bin/env bash
+# glint's benchmark set. Renders each scene once and prints the wall time of
+# the whole process, the render time, the rays, Mrays/s and the peak memory.
+#
+#   scripts/bench.sh                 the fixed set
+#   scripts/bench.sh --povray [N]    glint and POV-Ray alternately on the
+#                                    equivalent pairs, N rounds (default 3):
+#                                    medians and the ratio
+#
+# Needs ../shared beside the repository (the framework's scenes and meshes),
+# GNU time at /usr/bin/time, and for --povray `apt-get install povray`.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+shared=${GLINT_SHARED:-$root/../shared}
+cargo build --release --quiet --manifest-path "$root/Cargo.toml"
+glint=$root/target/release/glint
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+# N random diffuse spheres in a 10-unit box (radius ~ N^-1/3: the cloud looks
+# alike at every N), a floor and one point light; deterministic.
+spheres() {
+  awk -v n="$1" 'BEGIN {
+    srand(42); r = 2.5 * n ^ (-1 / 3)
+    print "background\n top= 0.6 0.7 0.9\nend"
+    print "camera\n O= 0 -14 6\n N= 0 1 -0.25\n lens_W= 1.0\n lens_H= 0.75\n image_W= 1024\n image_H= 768\nend"
+    print "light point\n O= 6 -10 16\n color= 1 1 1\nend"
+    print "primitive plane\n N= 0 0 1\n R= 0\n color= 0.8 0.8 0.8\n diff= 0.8\nend"
+    for (i = 0; i < n; i++)
+      printf "primitive sphere\n O= %.5f %.5f %.5f\n R= %.5f\n color= %.3f %.3f %.3f\n diff= 0.9\nend\n",
+        10 * rand() - 5, 10 * rand() - 5, 10 * rand() + 0.5, r, rand(), rand(), rand()
+  }' > "$work/spheres_$1.txt"
+}
+
+# run NAME SCENE [glint options]: one render; prints a table row.
+run() {
+  local name=$1 scene=$2
+  shift 2
+  /usr/bin/time -f '%e %M' -o "$work/time" "$glint" render "$scene" -o "$work/out.png" "$@" 2> "$work/log" || {
+    cat "$work/log" >&2
+    return 1
+  }
+  local summary size render bvh rays mrays wall kib
+  summary=$(grep 'Mrays/s' "$work/log")
+  size=$(sed -E 's/^.*: ([0-9]+x[0-9]+),.*/\1/' <<< "$summary")
+  render=$(sed -E 's/.*\(([0-9.]+) s render.*/\1/' <<< "$summary")
+  bvh=$(sed -E 's/.*, ([0-9.]+) s BVH\).*/\1/' <<< "$summary")
+  rays=$(sed -E 's/.*, ([0-9.]+) M rays.*/\1/' <<< "$summary")
+  mrays=$(sed -E 's/.*, ([0-9.]+) Mrays\/s.*/\1/' <<< "$summary")
+  read -r wall kib < "$work/time"
+  printf '| %-22s | %-9s | %7s | %8s | %6s | %8s | %7s | %8.0f |\n' "$name" "$size" "$wall" "$render" "$bvh" "$rays" "$mrays" "$((kib / 1024))"
+}
+
+header() {
+  printf '| %-22s | %-9s | %7s | %8s | %6s | %8s | %7s | %8s |\n' scene size "wall s" "render s" "BVH s" "M rays" "Mrays/s" "peak MiB"
+  printf '|%s|%s|%s|%s|%s|%s|%s|%s|\n' ------------------------ ----------- --------- ---------- -------- ---------- --------- ----------
+}
+
+if [[ ${1:-} == --povray ]]; then
+  rounds=${2:-3}
+  command -v povray > /dev/null || { echo "povray is not installed (apt-get install povray)" >&2; exit 2; }
+  pov=$shared/bench/povray
+  # pair NAME GLINT_SCENE POV_FILE WIDTH HEIGHT
+  pair() {
+    local name=$1 scene=$2 povfile=$3 w=$4 h=$5 g=() p=() grays=""
+    for ((k = 0; k < rounds; k++)); do
+      /usr/bin/time -f '%e' -o "$work/t" "$glint" render "$scene" -o "$work/g.png" --spp 1 2> "$work/glog"
+      g+=("$(cat "$work/t")")
+      grays=$(grep -oE '[0-9.]+ M rays' "$work/glog" | cut -d' ' -f1)
+      (cd "$pov" && /usr/bin/time -f '%e' -o "$work/t" povray +W"$w" +H"$h" -A -D +WT2 File_Gamma=1.0 \
+        +O"$work/p.png" "$povfile" > /dev/null 2> "$work/plog")
+      p+=("$(cat "$work/t")")
+    done
+    local gm pm prays
+    gm=$(printf '%s\n' "${g[@]}" | sort -n | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}')
+    pm=$(printf '%s\n' "${p[@]}" | sort -n | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}')
+    prays=$(awk '/Total Rays:|Total rays:/ {gsub(",", "", $0); for (i = 1; i <= NF; i++) if ($i ~ /^[0-9]+$/) {print $i / 1e6; exit}}' "$work/plog")
+    printf '| %-10s | %8s | %8s | %6.2fx | %8s | %8s | %8.1f | %8.1f |\n' "$name" "$gm" "$pm" "$(awk -v a="$pm" -v b="$gm" 'BEGIN {print a / b}')" \
+      "$grays" "${prays:-?}" "$(awk -v r="$grays" -v t="$gm" 'BEGIN {print r / t}')" "$(awk -v r="${prays:-0}" -v t="$pm" 'BEGIN {print r / t}')"
+  }
+  echo "glint and POV-Ray 3.7, alternately, $rounds rounds, median wall seconds of the whole process (no anti-aliasing):"
+  printf '| %-10s | %8s | %8s | %7s | %8s | %8s | %8s | %8s |\n' pair glint povray speed-up "glint Mr" "pov Mr" "glint Mr/s" "pov Mr/s"
+  printf '|%s|%s|%s|%s|%s|%s|%s|%s|\n' ------------ ---------- ---------- --------- ---------- ---------- ---------- ----------
+  pair scene1 "$root/bench/scene1.txt" scene1.pov 1280 760
+  pair features "$root/bench/features.txt" features.pov 1280 720
+  exit 0
+fi
+
+for n in 100 10000 1000000; do spheres "$n"; done
+echo "glint benchmark set (one run each; wall = the whole process, parsing included):"
+header
+run "framework scene1" "$shared/scenes/framework/scene1.txt"
+run "framework scene2" "$shared/scenes/framework/scene2.txt"
+run "bunny 69k triangles" "$root/bench/bunny.txt" --spp 1
+run "100 spheres" "$work/spheres_100.txt" --spp 1
+run "10 000 spheres" "$work/spheres_10000.txt" --spp 1
+run "1 000 000 spheres" "$work/spheres_1000000.txt" --spp 1
