@@ -48,7 +48,7 @@ fn triangle(a: DVec3, b: DVec3, c: DVec3) -> Shape {
 }
 
 fn plane(n: DVec3, r: f64) -> Shape {
-    Shape::Plane(Plane::new(n, r, DVec3::X, DVec3::Y))
+    Shape::Plane(Box::new(Plane::new(n, r, DVec3::X, DVec3::Y)))
 }
 
 fn unit_vector(rng: &mut Pcg64) -> DVec3 {

@@ -197,6 +197,9 @@ fn vec3(s: &str) -> [f64; 3] {
     [v[0], v[1], v[2]]
 }
 
+/// (t, point, normal, front, primitive) of one probe answer.
+type Expected = (f64, [f64; 3], [f64; 3], bool, &'static str);
+
 #[test]
 fn probe_answers_match_closed_forms() {
     let dir = scratch("probe");
@@ -229,7 +232,7 @@ primitive cube\n    O= 0 0 10\n    Dx= 1 0 0\n    Dy= 0 1 0\n    x= 1\n    y= 2\
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(lines.len(), 10);
     // (t, point, normal, front, primitive) expected by hand.
-    let want: [(f64, [f64; 3], [f64; 3], bool, &str); 9] = [
+    let want: [Expected; 9] = [
         (3.0, [0.0, 3.0, 0.0], [0.0, -1.0, 0.0], true, "0"), // sphere front
         (2.0, [0.0, 5.0, 2.0], [0.0, 0.0, -1.0], false, "0"), // from inside the sphere
         (3.0, [0.0, 0.0, -3.0], [0.0, 0.0, 1.0], true, "1"), // plane below
