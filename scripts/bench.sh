@@ -74,7 +74,8 @@ if [[ ${1:-} == --povray ]]; then
     local gm pm prays
     gm=$(printf '%s\n' "${g[@]}" | sort -n | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}')
     pm=$(printf '%s\n' "${p[@]}" | sort -n | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}')
-    prays=$(awk '/Total Rays:|Total rays:/ {gsub(",", "", $0); for (i = 1; i <= NF; i++) if ($i ~ /^[0-9]+$/) {print $i / 1e6; exit}}' "$work/plog")
+    # POV-Ray's "Rays:" counts camera, reflected and refracted rays; shadow rays come apart.
+    prays=$(awk '/^Rays:/ {r = $2} /^Shadow Ray Tests:/ {s = $4} END {printf "%.1f", (r + s) / 1e6}' "$work/plog")
     printf '| %-10s | %8s | %8s | %6.2fx | %8s | %8s | %8.1f | %8.1f |\n' "$name" "$gm" "$pm" "$(awk -v a="$pm" -v b="$gm" 'BEGIN {print a / b}')" \
       "$grays" "${prays:-?}" "$(awk -v r="$grays" -v t="$gm" 'BEGIN {print r / t}')" "$(awk -v r="${prays:-0}" -v t="$pm" 'BEGIN {print r / t}')"
   }
