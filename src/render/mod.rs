@@ -56,6 +56,8 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Image {
 
 /// Sub-pixel grid of the framework's anti-aliasing.
 const AA_GRID: u32 = 7;
+/// Rows per rendering task, also the side of the tiles a task walks.
+const BAND: usize = 8;
 
 /// Renders a scene, calling `progress(done, total)` (in units of camera
 /// rays) as rows finish; returns the image and the figures.
@@ -153,48 +155,46 @@ fn render_inner(
         progress(d, total.load(Ordering::Relaxed));
     };
 
-    // Pass 1, a row per task (rayon steals work, so both cores stay busy to
-    // the end): stratified samples, or the framework's single ray and its hash.
-    let mut pixels = vec![[0f32; 3]; w as usize * h as usize];
-    let mut hashes = vec![0u32; if spp.is_none() { pixels.len() } else { 0 }];
-    let row_rays: Vec<RayCounts> = if spp.is_some() {
-        pixels
-            .par_chunks_mut(w as usize)
-            .enumerate()
-            .map(|(y, row)| {
-                let mut rays = RayCounts::default();
-                for (x, px) in row.iter_mut().enumerate() {
-                    *px = to_f32(stratified(
-                        &frame,
-                        x as u32,
-                        y as u32,
-                        per_pixel as u32,
-                        &mut rays,
-                    ));
-                }
-                report(w as u64 * per_pixel);
-                rays
-            })
-            .collect()
-    } else {
-        pixels
-            .par_chunks_mut(w as usize)
-            .zip(hashes.par_chunks_mut(w as usize))
-            .enumerate()
-            .map(|(y, (row, row_hashes))| {
-                let mut rays = RayCounts::default();
-                for (x, (px, hash)) in row.iter_mut().zip(row_hashes).enumerate() {
-                    let mut st = frame.state(x as u32, y as u32, 0);
-                    let mut full = 0u64;
-                    *px = to_f32(frame.sample(x as u32, y as u32, 0.5, 0.5, &mut st, &mut full));
-                    *hash = (full ^ (full >> 32)) as u32;
-                    rays.add(&st.rays);
-                }
-                report(w as u64);
-                rays
-            })
-            .collect()
+    // Pass 1: stratified samples, or the framework's single ray and its hash.
+    // A task is a band of rows (rayon steals work, so both cores stay busy
+    // to the end), walked in small square tiles so neighbouring rays reuse
+    // the same nodes and primitives in the cache.
+    let shade = |x: u32, y: u32, rays: &mut RayCounts| -> ([f32; 3], u32) {
+        match spp {
+            Some(n) => (to_f32(stratified(&frame, x, y, n, rays)), 0),
+            None => {
+                let mut st = frame.state(x, y, 0);
+                let mut hash = 0u64;
+                let c = frame.sample(x, y, 0.5, 0.5, &mut st, &mut hash);
+                rays.add(&st.rays);
+                (to_f32(c), (hash ^ (hash >> 32)) as u32)
+            }
+        }
     };
+    let wu = w as usize;
+    let mut pixels = vec![[0f32; 3]; wu * h as usize];
+    let mut hashes = vec![0u32; pixels.len()];
+    let row_rays: Vec<RayCounts> = pixels
+        .par_chunks_mut(wu * BAND)
+        .zip(hashes.par_chunks_mut(wu * BAND))
+        .enumerate()
+        .map(|(band, (band_pixels, band_hashes))| {
+            let y0 = band * BAND;
+            let rows = band_pixels.len() / wu;
+            let mut rays = RayCounts::default();
+            for x0 in (0..wu).step_by(BAND) {
+                for dy in 0..rows {
+                    for x in x0..(x0 + BAND).min(wu) {
+                        let i = dy * wu + x;
+                        (band_pixels[i], band_hashes[i]) =
+                            shade(x as u32, (y0 + dy) as u32, &mut rays);
+                    }
+                }
+            }
+            report(band_pixels.len() as u64 * per_pixel);
+            rays
+        })
+        .collect();
     let mut rays = RayCounts::default();
     row_rays.iter().for_each(|r| rays.add(r));
 
