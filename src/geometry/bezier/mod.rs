@@ -14,13 +14,18 @@
 //!   degree 2n whose roots are isolated by Bernstein subdivision (Descartes'
 //!   rule) and refined by bracketed Newton; as z is monotone on a piece, t is
 //!   monotone in s and the first root in the ray's direction is the nearest;
-//! - for rays (nearly) perpendicular to the axis that polynomial degenerates
-//!   (its roots pair up into double roots), so each half of the ray, split
-//!   at its closest approach to the axis, is solved as
-//!   √A·(z(s) − h*) = ±da·√(r(s)² − ρ*²), which stays well conditioned.
+//! - for rays within 10⁻³ of perpendicular to the axis that polynomial
+//!   degenerates (its roots pair up into double roots), so each half of the
+//!   ray, split at its closest approach t* to the axis (|d⊥|² = A), is
+//!   solved as √A·(z(s) − h*) = ±da·√(r(s)² − ρ*²), which stays well
+//!   conditioned; it only misses slivers of relative size ~slope² (10⁻⁶)
+//!   where a ray grazes the surface, and the polynomial resolves its root
+//!   pairs down to slopes ~10⁻⁵, so the two hand over without a gap.
 //!
 //! Where either formula for t is ill-conditioned the hit is polished by
-//! Newton's method on the original two equations.
+//! Newton's method on the original two equations. Profiles up to degree
+//! [`Bezier::MAX_DEGREE`] (16) are handled on fixed-size arrays: no
+//! allocation per ray.
 //!
 //! The outward normal is ρ̂·z'(s) − a·|r|'(s), with ρ̂ the unit vector from
 //! the axis to the hit point: the profile's tangent in the (radius, height)
@@ -520,7 +525,8 @@ impl Bezier {
         None
     }
 
-    /// Point, outward normal and texture coordinates at a hit.
+    /// Point, outward normal (see the module docs for which side that is)
+    /// and texture coordinates (u = s, v = angle around the axis / 2π) at a hit.
     pub fn surface(&self, ray: &Ray, hit: &Hit) -> SurfacePoint {
         let point = ray.at(hit.t);
         let q = point - self.o1;
