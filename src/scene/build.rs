@@ -1336,6 +1336,19 @@ fn bezier(b: &mut Block<'_>) -> Option<Bezier> {
         );
         return None;
     }
+    let max = Bezier::MAX_DEGREE + 1;
+    if points.len() > max {
+        b.diags.error(
+            points[max].1,
+            format!(
+                "a `primitive bezier` profile has at most {max} control points (degree {}), found {}",
+                Bezier::MAX_DEGREE,
+                points.len()
+            ),
+            None,
+        );
+        return None;
+    }
     let (o1, o2) = axis?;
     Some(Bezier::new(
         o1,
