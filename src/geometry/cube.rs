@@ -1,6 +1,6 @@
 //! Oriented boxes: `primitive cube` (`O= Dx= Dy= x= y= z=`).
 
-use super::{Aabb, Hit, Ray, SurfacePoint};
+use super::{Aabb, Hit, Ray, Span, SurfacePoint};
 use glam::{DVec2, DVec3};
 
 /// A box centred at `center` with orthonormal axes and half-lengths.
@@ -45,9 +45,8 @@ impl Cube {
         let o = self.to_local(ray.origin - self.center);
         let d = self.to_local(ray.dir);
         let h = self.half.to_array();
-        // Slab test, keeping which axis bounds the interval on each side.
-        let (mut t_near, mut t_far) = (f64::NEG_INFINITY, f64::INFINITY);
-        let (mut near_part, mut far_part) = (0, 0);
+        // Slab test, keeping which face bounds the interval on each side.
+        let mut span = Span::all();
         for i in 0..3 {
             if d[i] == 0.0 {
                 // Parallel to this slab: no constraint inside it, a miss outside
@@ -59,39 +58,15 @@ impl Cube {
             }
             let inv = 1.0 / d[i];
             let (ta, tb) = ((-h[i] - o[i]) * inv, (h[i] - o[i]) * inv);
+            let face = 2 * i as u32;
             // Entering through the face that faces the ray, leaving through the other.
-            let (near, far, near_face, far_face) = if d[i] > 0.0 {
-                (ta, tb, 2 * i + 1, 2 * i)
+            if d[i] > 0.0 {
+                span.clip(ta, tb, face + 1, face);
             } else {
-                (tb, ta, 2 * i, 2 * i + 1)
-            };
-            if near > t_near {
-                t_near = near;
-                near_part = near_face;
-            }
-            if far < t_far {
-                t_far = far;
-                far_part = far_face;
+                span.clip(tb, ta, face, face + 1);
             }
         }
-        if t_near > t_far {
-            return None;
-        }
-        if t_near > t_min && t_near < t_max {
-            Some(Hit {
-                t: t_near,
-                part: near_part as u32,
-                ..Hit::default()
-            })
-        } else if t_far > t_min && t_far < t_max {
-            Some(Hit {
-                t: t_far,
-                part: far_part as u32,
-                ..Hit::default()
-            })
-        } else {
-            None
-        }
+        span.hit(t_min, t_max)
     }
 
     /// Point (on the face), outward normal and the face's texture coordinates at a hit.

@@ -1,6 +1,6 @@
 //! Closed cylinders: `primitive cylinder` (`O1= O2= R=`).
 
-use super::{Aabb, Hit, Ray, SurfacePoint, angle_around, axis_frame};
+use super::{Aabb, Hit, Ray, Span, SurfacePoint, angle_around, axis_frame};
 use glam::{DVec2, DVec3};
 use std::f64::consts::TAU;
 
@@ -69,22 +69,20 @@ impl Cylinder {
         // (like a box's slabs), so the rim has no crack between side and cap.
         let s = ray.origin - self.o1;
         let (sa, da) = (s.dot(self.axis), ray.dir.dot(self.axis));
-        let (mut t_near, mut t_far, mut near_part, mut far_part);
-        if da == 0.0 {
+        let mut span = if da == 0.0 {
             if sa < 0.0 || sa > self.length {
                 return None;
             }
-            (t_near, t_far) = (f64::NEG_INFINITY, f64::INFINITY);
-            (near_part, far_part) = (CAP1, CAP1);
+            Span::all()
         } else {
             let inv = 1.0 / da;
             let (t1, t2) = (-sa * inv, (self.length - sa) * inv);
-            (t_near, t_far, near_part, far_part) = if da > 0.0 {
-                (t1, t2, CAP1, CAP2)
+            if da > 0.0 {
+                Span::new(t1, t2, CAP1, CAP2)
             } else {
-                (t2, t1, CAP2, CAP1)
-            };
-        }
+                Span::new(t2, t1, CAP2, CAP1)
+            }
+        };
         // Side: |s⊥ + t·d⊥|² = R², solved in the form of Sphere::roots that
         // stays exact for rays far from or nearly along the axis.
         let r2 = self.radius * self.radius;
@@ -110,33 +108,9 @@ impl Cylinder {
                 let (x, y) = (c / q, q / a);
                 if x <= y { (x, y) } else { (y, x) }
             };
-            if r0 > t_near {
-                t_near = r0;
-                near_part = SIDE;
-            }
-            if r1 < t_far {
-                t_far = r1;
-                far_part = SIDE;
-            }
+            span.clip(r0, r1, SIDE, SIDE);
         }
-        if t_near > t_far {
-            return None;
-        }
-        if t_near > t_min && t_near < t_max {
-            Some(Hit {
-                t: t_near,
-                part: near_part,
-                ..Hit::default()
-            })
-        } else if t_far > t_min && t_far < t_max {
-            Some(Hit {
-                t: t_far,
-                part: far_part,
-                ..Hit::default()
-            })
-        } else {
-            None
-        }
+        span.hit(t_min, t_max)
     }
 
     /// Point (on the surface), outward normal and texture coordinates at a hit.

@@ -78,6 +78,70 @@ impl Hit {
     }
 }
 
+/// The stretch of a ray inside a convex solid, with the sub-part (face,
+/// cap, side) that bounds it at each end: narrowed piece by piece, as in a
+/// slab test, then the nearest usable end is the hit.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Span {
+    near: f64,
+    far: f64,
+    near_part: u32,
+    far_part: u32,
+}
+
+impl Span {
+    /// The span [near, far] bounded by the parts given.
+    #[inline]
+    pub(crate) fn new(near: f64, far: f64, near_part: u32, far_part: u32) -> Self {
+        Span {
+            near,
+            far,
+            near_part,
+            far_part,
+        }
+    }
+
+    /// The whole ray, before any piece is clipped.
+    #[inline]
+    pub(crate) fn all() -> Self {
+        Span::new(f64::NEG_INFINITY, f64::INFINITY, 0, 0)
+    }
+
+    /// Narrows the span to [near, far], whose ends belong to the given parts.
+    #[inline]
+    pub(crate) fn clip(&mut self, near: f64, far: f64, near_part: u32, far_part: u32) {
+        if near > self.near {
+            self.near = near;
+            self.near_part = near_part;
+        }
+        if far < self.far {
+            self.far = far;
+            self.far_part = far_part;
+        }
+    }
+
+    /// The nearest end with `t_min < t < t_max`: the entry from outside, the
+    /// exit from inside; `None` when the span is empty.
+    #[inline]
+    pub(crate) fn hit(&self, t_min: f64, t_max: f64) -> Option<Hit> {
+        if self.near > self.far {
+            return None;
+        }
+        let (t, part) = if self.near > t_min && self.near < t_max {
+            (self.near, self.near_part)
+        } else if self.far > t_min && self.far < t_max {
+            (self.far, self.far_part)
+        } else {
+            return None;
+        };
+        Some(Hit {
+            t,
+            part,
+            ..Hit::default()
+        })
+    }
+}
+
 /// Everything shading needs to know about a hit point.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SurfacePoint {
