@@ -2,6 +2,7 @@
 //! array of 32-byte nodes, and an ordered, allocation-free traversal.
 
 use crate::geometry::{Aabb, Ray};
+use std::cell::RefCell;
 
 /// Bins per axis for the surface area heuristic.
 const BINS: usize = 16;
@@ -194,7 +195,7 @@ impl Bvh {
         &self,
         ray: &Ray,
         t_best: &mut f64,
-        mut leaf: impl FnMut(&[u32], &mut f64) -> bool,
+        leaf: impl FnMut(&[u32], &mut f64) -> bool,
     ) {
         let Some(Pair([root, _])) = self.pairs.first() else {
             return;
@@ -203,8 +204,32 @@ impl Bvh {
         if rb.entry(&root.bounds, *t_best) == MISS {
             return;
         }
-        let mut stack_node = [0u32; STACK_SIZE];
-        let mut stack_t = [0f64; STACK_SIZE];
+        // The stack lives in the thread, not in this frame: a fresh one would
+        // be zeroed (1.5 KiB) on every query, a large part of a shadow ray's cost.
+        STACK.with(|cell| match cell.try_borrow_mut() {
+            Ok(mut stack) => self.walk(&rb, root, t_best, &mut stack, leaf),
+            // Only a query made from inside another query's leaf gets here.
+            Err(_) => {
+                let mut fresh = Stack::EMPTY;
+                self.walk(&rb, root, t_best, &mut fresh, leaf)
+            }
+        });
+    }
+
+    /// The walk of [`Bvh::traverse`] from `root`, with a stack to use.
+    #[inline(always)]
+    fn walk(
+        &self,
+        rb: &RayBox,
+        root: &Node,
+        t_best: &mut f64,
+        stack: &mut Stack,
+        mut leaf: impl FnMut(&[u32], &mut f64) -> bool,
+    ) {
+        let Stack {
+            node: stack_node,
+            t: stack_t,
+        } = stack;
         let mut sp = 0;
         let mut node = root;
         loop {
@@ -246,6 +271,25 @@ impl Bvh {
             }
         }
     }
+}
+
+/// A traversal stack: pending node ids and their entry distances.
+#[derive(Debug)]
+struct Stack {
+    node: [u32; STACK_SIZE],
+    t: [f64; STACK_SIZE],
+}
+
+impl Stack {
+    const EMPTY: Stack = Stack {
+        node: [0; STACK_SIZE],
+        t: [0.0; STACK_SIZE],
+    };
+}
+
+thread_local! {
+    /// Each thread's traversal stack, reused by every query on that thread.
+    static STACK: RefCell<Stack> = const { RefCell::new(Stack::EMPTY) };
 }
 
 /// What [`RayBox::entry`] returns for a box the ray misses.

@@ -80,21 +80,41 @@ impl<'a> Accel<'a> {
     /// Whether anything lies on the ray with 0 < t < `t_max`, not counting
     /// the visible surface of light `ignore_light`.
     pub fn occluded(&self, ray: &Ray, t_max: f64, ignore_light: Option<u32>) -> bool {
+        self.occluded_hinted(ray, t_max, ignore_light, &mut None)
+    }
+
+    /// [`Accel::occluded`], trying the object in `hint` first and leaving the
+    /// blocker found in it: the shadow rays of one point towards one area
+    /// light are mostly stopped by the same object.
+    pub fn occluded_hinted(
+        &self,
+        ray: &Ray,
+        t_max: f64,
+        ignore_light: Option<u32>,
+        hint: &mut Option<u32>,
+    ) -> bool {
         let blocks = |i: u32| {
             let o = &self.objects[i as usize];
             (o.light.is_none() || o.light != ignore_light)
                 && o.shape.intersect(ray, 0.0, t_max).is_some()
         };
-        if self.unbounded.iter().any(|&i| blocks(i)) {
+        if hint.is_some_and(blocks) {
             return true;
         }
-        let mut hit = false;
+        if let Some(&i) = self.unbounded.iter().find(|&&i| blocks(i)) {
+            *hint = Some(i);
+            return true;
+        }
+        let mut blocker = None;
         let mut t_best = t_max;
         self.bvh.traverse(ray, &mut t_best, |prims, _| {
-            hit = prims.iter().any(|&i| blocks(i));
-            hit
+            blocker = prims.iter().copied().find(|&i| blocks(i));
+            blocker.is_some()
         });
-        hit
+        if blocker.is_some() {
+            *hint = blocker;
+        }
+        blocker.is_some()
     }
 
     /// Nodes in the hierarchy (for statistics).

@@ -31,6 +31,7 @@ pub fn shade_factor(
         LightKind::Square { center, dx, dy } => {
             let (rows, cols) = strata(samples);
             let mut lit = 0u32;
+            let mut blocker = None;
             for r in 0..rows {
                 for c in 0..cols {
                     let a = 2.0 * (c as f64 + rng.random::<f64>()) / cols as f64 - 1.0;
@@ -38,7 +39,12 @@ pub fn shade_factor(
                     let to = center + dx * a + dy * b - origin;
                     let dist = to.length();
                     if dist > 0.0
-                        && !accel.occluded(&Ray::new(origin, to / dist), dist, Some(index))
+                        && !accel.occluded_hinted(
+                            &Ray::new(origin, to / dist),
+                            dist,
+                            Some(index),
+                            &mut blocker,
+                        )
                     {
                         lit += 1;
                     }
@@ -61,6 +67,7 @@ pub fn shade_factor(
             let tangent = (d2 - radius * radius).max(0.0).sqrt();
             let (rows, cols) = strata(samples);
             let mut lit = 0u32;
+            let mut blocker = None;
             for r in 0..rows {
                 for c in 0..cols {
                     // Uniform in solid angle over the cone: cos θ uniform in [cos_max, 1].
@@ -73,7 +80,7 @@ pub fn shade_factor(
                     let ray = Ray::new(origin, dir);
                     // Up to the light's surface (the tangent distance for rounding at the rim).
                     let t_light = sphere.roots(&ray).map_or(tangent, |(t0, _)| t0);
-                    if !accel.occluded(&ray, t_light, Some(index)) {
+                    if !accel.occluded_hinted(&ray, t_light, Some(index), &mut blocker) {
                         lit += 1;
                     }
                 }
