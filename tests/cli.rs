@@ -172,6 +172,92 @@ fn bad_arguments_exit_2_and_write_nothing() {
     assert!(!dir.join("no").exists());
 }
 
+#[test]
+fn zero_spp_or_threads_exit_2_and_write_nothing() {
+    let dir = scratch("zero");
+    let scene = write(&dir, "s.txt", SMALL);
+    let out = dir.join("s.png");
+    for (flag, shown) in [
+        ("--spp", "'--spp <SPP>'"),
+        ("--threads", "'--threads <THREADS>'"),
+    ] {
+        let o = glint(
+            &["render", &scene, "-o", out.to_str().unwrap(), flag, "0"],
+            None,
+        );
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{flag} 0: {err}");
+        assert!(
+            err.contains(&format!("invalid value '0' for {shown}"))
+                && err.contains("must be at least 1"),
+            "{flag} 0: {err}"
+        );
+        assert!(!err.contains("panicked"), "{err}");
+        assert!(!out.exists(), "{flag} 0 wrote {}", out.display());
+        // Nothing else either (no temporary file): only the scene is there.
+        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "{flag} 0");
+    }
+    // 1 is the smallest value accepted.
+    let o = glint(
+        &[
+            "render",
+            &scene,
+            "-o",
+            out.to_str().unwrap(),
+            "--spp",
+            "1",
+            "--threads",
+            "1",
+        ],
+        None,
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(out.exists());
+}
+
+#[test]
+fn piped_stderr_gets_the_summary_line_but_no_progress_bar() {
+    let dir = scratch("progress");
+    let scene = write(&dir, "s.txt", SMALL);
+    let out = dir.join("s.png");
+    // Large enough that a shown bar would be drawn; `glint` pipes stderr.
+    let o = glint(
+        &[
+            "render",
+            &scene,
+            "-o",
+            out.to_str().unwrap(),
+            "--width",
+            "640",
+        ],
+        None,
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(!err.contains('\r'), "a progress bar on a pipe: {err:?}");
+    assert!(!err.contains("ETA"), "a progress bar on a pipe: {err:?}");
+    let lines: Vec<&str> = err.lines().collect();
+    assert_eq!(lines.len(), 1, "expected only the summary line: {err:?}");
+    assert!(
+        lines[0].contains("640x480") && lines[0].contains("Mrays/s"),
+        "{err:?}"
+    );
+    assert!(out.exists());
+    // --quiet: not even the summary line, and the image is still written.
+    std::fs::remove_file(&out).unwrap();
+    let o = glint(
+        &["render", &scene, "-o", out.to_str().unwrap(), "--quiet"],
+        None,
+    );
+    assert!(o.status.success());
+    assert!(
+        o.stderr.is_empty(),
+        "--quiet printed: {:?}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(out.exists());
+}
+
 /// Parses the probe's JSON line into (hit, t, point, normal, front, primitive).
 fn field<'a>(line: &'a str, key: &str) -> &'a str {
     let start = line

@@ -38,15 +38,15 @@ struct RenderArgs {
     /// Image height in pixels, overriding the scene's image_H=.
     #[arg(long)]
     height: Option<u32>,
-    /// Worker threads [default: one per core]
-    #[arg(long)]
+    /// Worker threads, at least 1 [default: one per core]
+    #[arg(long, value_parser = at_least_one::<usize>)]
     threads: Option<usize>,
     /// Seed of the random streams (same scene and seed: same bytes, whatever the threads).
     #[arg(long, default_value_t = 0)]
     seed: u64,
     /// Stratified samples per pixel instead of the framework's adaptive anti-aliasing
-    /// (1: exactly one ray through each pixel's centre).
-    #[arg(long)]
+    /// (at least 1; 1: exactly one ray through each pixel's centre).
+    #[arg(long, value_parser = at_least_one::<u32>)]
     spp: Option<u32>,
     /// No progress bar, no summary (warnings and errors are still printed).
     #[arg(short, long)]
@@ -66,6 +66,20 @@ struct ProbeArgs {
     /// One JSON object per line: {"hit":true,"t":..,"point":[..],"normal":[..],"front":..,"primitive":K,"uv":[u,v]}.
     #[arg(long)]
     json: bool,
+}
+
+/// Parses a whole number that must be at least 1 (`--spp`, `--threads`);
+/// clap reports a refusal as an argument error with exit code 2.
+fn at_least_one<T>(s: &str) -> Result<T, String>
+where
+    T: std::str::FromStr + PartialOrd + From<u8>,
+    T::Err: std::fmt::Display,
+{
+    let n: T = s.trim().parse().map_err(|e| format!("{e}"))?;
+    if n < T::from(1) {
+        return Err("must be at least 1".to_string());
+    }
+    Ok(n)
 }
 
 /// A failure to report: the message, printed as is, and exit code 2.

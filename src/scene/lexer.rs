@@ -1,5 +1,7 @@
 //! Splits scene text into lines of words, dropping comments, keeping each
-//! word's column so diagnostics can point at it.
+//! word's column so diagnostics can point at it. Comments are `#` and `//`,
+//! anywhere in a line; only a `//` inside a `texture=` / `file=` path is
+//! kept (the rule is on [`words`]).
 
 /// One whitespace-separated word of a line.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -66,18 +68,46 @@ pub(crate) fn split_lines(text: &str) -> impl Iterator<Item = &str> {
     })
 }
 
-/// The words of one line. A comment starts at any `#`, or at `//` at the
-/// start of a word (so a path such as `a//b.bmp` survives).
+/// Keys whose value is a file path (see [`words`]).
+const PATH_KEYS: [&str; 2] = ["texture", "file"];
+
+/// Byte offset just after the `=` when the line's key is a path key
+/// (`texture= ...`, `file=...`, `texture = ...`), else `None`.
+fn path_value_start(line: &str) -> Option<usize> {
+    let lead = line.len() - line.trim_start().len();
+    let rest = &line[lead..];
+    let key_len = rest.find(|c: char| c == '=' || c.is_whitespace())?;
+    if !PATH_KEYS.contains(&&rest[..key_len]) {
+        return None;
+    }
+    let after = &rest[key_len..];
+    let gap = after.len() - after.trim_start().len();
+    after[gap..]
+        .starts_with('=')
+        .then_some(lead + key_len + gap + 1)
+}
+
+/// The words of one line, before any comment.
+///
+/// A comment starts at any `#`, and at any `//`, even one glued to a value
+/// (`O= 0 5 0// centre`, `end// sphere`, `R= 1#x`), as the spec allows both
+/// after the values. One exception keeps file paths whole: in the value of
+/// a `texture=` or `file=` line, a `//` glued between two characters of a
+/// word (`maps//wood.bmp`) is part of the path. There a `//` still starts a
+/// comment at the start of a word or when a blank or the end of the line
+/// follows it (`wood.bmp// oak`, `wood.bmp//`), since no file path ends in
+/// `//`. A `#` always starts a comment, in paths too.
 pub(crate) fn words(line: &str) -> Vec<Word<'_>> {
     let mut out = Vec::new();
+    // Where a path value starts, on a `texture=` / `file=` line.
+    let path = path_value_start(line);
     // (byte start, column) of the word being read.
     let mut current: Option<(usize, usize)> = None;
     let mut col = 0;
-    let mut chars = line.char_indices().peekable();
-    while let Some((i, c)) = chars.next() {
+    for (i, c) in line.char_indices() {
         col += 1;
         let comment = c == '#'
-            || (current.is_none() && c == '/' && chars.peek().map(|&(_, n)| n) == Some('/'));
+            || (c == '/' && line[i..].starts_with("//") && !inside_path(line, path, current, i));
         if comment {
             close(&mut out, line, current, i, col);
             return out;
@@ -90,6 +120,21 @@ pub(crate) fn words(line: &str) -> Vec<Word<'_>> {
     }
     close(&mut out, line, current, line.len(), col + 1);
     out
+}
+
+/// Whether the `//` at byte `i` is part of a path (see [`words`]): after
+/// the first character of the path value, inside a word, and followed by
+/// more than a blank or the end of the line.
+fn inside_path(line: &str, path: Option<usize>, current: Option<(usize, usize)>, i: usize) -> bool {
+    let Some(value) = path else {
+        return false;
+    };
+    current.is_some()
+        && i > value
+        && line[i + 2..]
+            .chars()
+            .next()
+            .is_some_and(|c| !c.is_whitespace())
 }
 
 /// Ends the word being read (if any) at byte `end`, column `col`.
@@ -152,6 +197,55 @@ mod tests {
         assert_eq!(
             texts("texture= a//b.bmp"),
             vec![("texture=", 1, 8), ("a//b.bmp", 10, 8)]
+        );
+    }
+
+    #[test]
+    fn slash_comments_glued_to_words() {
+        assert_eq!(
+            texts("O= 0 5 0// centre"),
+            vec![("O=", 1, 2), ("0", 4, 1), ("5", 6, 1), ("0", 8, 1)]
+        );
+        assert_eq!(texts("end// sphere"), vec![("end", 1, 3)]);
+        assert_eq!(texts("end//"), vec![("end", 1, 3)]);
+        assert_eq!(texts("R=1//x"), vec![("R=1", 1, 3)]);
+        assert_eq!(texts("a/b/c"), vec![("a/b/c", 1, 5)]);
+        // A `blur=` value is not a path.
+        assert_eq!(texts("blur= exp//x"), vec![("blur=", 1, 5), ("exp", 7, 3)]);
+        // A key that merely starts like a path key is not one.
+        assert_eq!(
+            texts("textures= a//b"),
+            vec![("textures=", 1, 9), ("a", 11, 1)]
+        );
+    }
+
+    #[test]
+    fn slashes_inside_paths() {
+        assert_eq!(texts("  file=m//a.obj"), vec![("file=m//a.obj", 3, 13)]);
+        assert_eq!(
+            texts("texture = a//b.bmp"),
+            vec![("texture", 1, 7), ("=", 9, 1), ("a//b.bmp", 11, 8)]
+        );
+        // A blank or the end of the line after `//`: a comment.
+        assert_eq!(
+            texts("texture= a.bmp// oak"),
+            vec![("texture=", 1, 8), ("a.bmp", 10, 5)]
+        );
+        assert_eq!(
+            texts("texture= a.bmp//"),
+            vec![("texture=", 1, 8), ("a.bmp", 10, 5)]
+        );
+        // At the start of a word or of the glued value: a comment.
+        assert_eq!(texts("texture= //a.bmp"), vec![("texture=", 1, 8)]);
+        assert_eq!(texts("texture=//a.bmp"), vec![("texture=", 1, 8)]);
+        assert_eq!(
+            texts("texture= a.bmp //x"),
+            vec![("texture=", 1, 8), ("a.bmp", 10, 5)]
+        );
+        // `#` always starts a comment.
+        assert_eq!(
+            texts("texture= a#b.bmp"),
+            vec![("texture=", 1, 8), ("a", 10, 1)]
         );
     }
 
