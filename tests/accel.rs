@@ -1,10 +1,10 @@
 //! The hierarchy against a brute-force loop over every object: the same
 //! nearest hit (index and distance, lowest index on ties) and the same
-//! any-hit answer, on random and degenerate scenes.
+//! any-hit answer, on random and degenerate scenes of every kind of shape.
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 use glint::accel::Accel;
-use glint::geometry::{Hit, Plane, Ray, Shape, Sphere, Triangle};
+use glint::geometry::{Bezier, Cube, Cylinder, Hit, Plane, Ray, Shape, Sphere, Square, Triangle};
 use glint::scene::{Object, Scene};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
@@ -49,6 +49,31 @@ fn triangle(a: DVec3, b: DVec3, c: DVec3) -> Shape {
 
 fn plane(n: DVec3, r: f64) -> Shape {
     Shape::Plane(Box::new(Plane::new(n, r, DVec3::X, DVec3::Y)))
+}
+
+fn square(c: DVec3, dx: DVec3, dy: DVec3) -> Shape {
+    Shape::Square(Box::new(Square::new(c, dx, dy)))
+}
+
+/// A box with orthonormal `dx`, `dy`.
+fn cube(c: DVec3, dx: DVec3, dy: DVec3, half: DVec3) -> Shape {
+    Shape::Cube(Box::new(Cube::new(c, dx, dy, half)))
+}
+
+fn cylinder(o1: DVec3, o2: DVec3, r: f64) -> Shape {
+    Shape::Cylinder(Box::new(Cylinder::new(o1, o2, r)))
+}
+
+fn bezier(o1: DVec3, o2: DVec3, points: &[(f64, f64)]) -> Shape {
+    let points = points.iter().map(|&(z, r)| DVec2::new(z, r)).collect();
+    Shape::Bezier(Box::new(Bezier::new(o1, o2, points)))
+}
+
+/// An orthonormal pair (the first two axes of a random rotation).
+fn frame(rng: &mut Pcg64) -> (DVec3, DVec3) {
+    let x = unit_vector(rng);
+    let y = x.cross(unit_vector(rng)).normalize();
+    (x, y)
 }
 
 fn unit_vector(rng: &mut Pcg64) -> DVec3 {
@@ -253,6 +278,202 @@ fn small_random_scenes_match_brute_force() {
     }
 }
 
+/// Every kind of shape, sizes over three decades: squares (random
+/// parallelograms, axis-aligned ones on integer coordinates, six-square
+/// boxes sharing edges), cubes (rotated and axis-aligned), cylinders
+/// (tilted and along world axes), Bézier surfaces (degree 1–6, folded and
+/// monotone profiles, radii of either sign), with spheres, triangles, a few
+/// planes and some lights among them.
+fn all_kinds_scene(rng: &mut Pcg64, each: usize, planes: usize) -> Vec<Object> {
+    let mut objects = mixed_scene(rng, each, each, planes);
+    let mut light = 0;
+    let mut flag = |rng: &mut Pcg64| {
+        rng.random_bool(0.05).then(|| {
+            light += 1;
+            light % 5
+        })
+    };
+    for k in 0..each {
+        let c = point_in(rng, 10.0);
+        let s = size(rng, 1e-2, 3.0);
+        let shape = if k % 3 == 0 {
+            // Axis-aligned on integer coordinates: faces on BVH box faces.
+            let a = rng.random_range(0..3usize);
+            let (mut dx, mut dy) = (DVec3::ZERO, DVec3::ZERO);
+            dx[(a + 1) % 3] = s.ceil();
+            dy[(a + 2) % 3] = s.ceil();
+            square(c.round(), dx, dy)
+        } else {
+            square(
+                c,
+                unit_vector(rng) * s,
+                unit_vector(rng) * size(rng, 1e-2, 3.0),
+            )
+        };
+        objects.push(object(shape, flag(rng)));
+    }
+    for k in 0..each / 6 {
+        // Closed boxes of six squares: rays through their edges hit two at once.
+        let c = point_in(rng, 10.0);
+        let (x, y) = if k % 2 == 0 {
+            (DVec3::X, DVec3::Y)
+        } else {
+            frame(rng)
+        };
+        let axes = [x, y, x.cross(y)];
+        let h = DVec3::new(
+            size(rng, 0.05, 2.0),
+            size(rng, 0.05, 2.0),
+            size(rng, 0.05, 2.0),
+        );
+        for i in 0..3 {
+            let (j, k) = ((i + 1) % 3, (i + 2) % 3);
+            for sign in [1.0, -1.0] {
+                objects.push(object(
+                    square(c + axes[i] * (h[i] * sign), axes[j] * h[j], axes[k] * h[k]),
+                    None,
+                ));
+            }
+        }
+    }
+    for k in 0..each {
+        let c = point_in(rng, 10.0);
+        let h = DVec3::new(
+            size(rng, 1e-2, 2.0),
+            size(rng, 1e-2, 2.0),
+            size(rng, 1e-2, 2.0),
+        );
+        let shape = if k % 3 == 0 {
+            cube(c.round(), DVec3::X, DVec3::Y, h.ceil() * 0.5)
+        } else {
+            let (x, y) = frame(rng);
+            cube(c, x, y, h)
+        };
+        objects.push(object(shape, flag(rng)));
+    }
+    for k in 0..each {
+        let o1 = point_in(rng, 10.0);
+        let len = size(rng, 1e-2, 4.0);
+        let axis = if k % 3 == 0 {
+            let mut a = DVec3::ZERO;
+            a[rng.random_range(0..3usize)] = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+            a
+        } else {
+            unit_vector(rng)
+        };
+        objects.push(object(
+            cylinder(o1, o1 + axis * len, size(rng, 1e-2, 2.0)),
+            flag(rng),
+        ));
+    }
+    for k in 0..each {
+        let o1 = point_in(rng, 10.0);
+        let axis = if k % 4 == 0 {
+            DVec3::Z
+        } else {
+            unit_vector(rng)
+        };
+        let s = size(rng, 0.05, 2.0);
+        let n = rng.random_range(2..=7usize);
+        let mut pts: Vec<(f64, f64)> = (0..n)
+            .map(|_| {
+                (
+                    rng.random_range(-1.0..1.0) * s,
+                    rng.random_range(-1.0..1.0) * s,
+                )
+            })
+            .collect();
+        if k % 2 == 0 {
+            // Monotone, positive: a vase. Otherwise folded, radii of either sign.
+            pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+            for p in &mut pts {
+                p.1 = p.1.abs();
+            }
+        }
+        objects.push(object(bezier(o1, o1 + axis, &pts), flag(rng)));
+    }
+    for i in (1..objects.len()).rev() {
+        let j = rng.random_range(0..=i);
+        objects.swap(i, j);
+    }
+    objects
+}
+
+#[test]
+fn random_all_kinds_scene_matches_brute_force() {
+    let mut rng = Pcg64::seed_from_u64(21);
+    let objects = all_kinds_scene(&mut rng, 250, 2);
+    check(&objects, 1500, 14.0, 22);
+}
+
+#[test]
+fn small_random_all_kinds_scenes_match_brute_force() {
+    let mut rng = Pcg64::seed_from_u64(23);
+    for n in 0..40 {
+        let objects = all_kinds_scene(&mut rng, n / 2, n % 3);
+        check(&objects, 150, 14.0, 200 + n as u64);
+    }
+}
+
+#[test]
+fn coincident_boxes_tie_to_lowest_index() {
+    // Each box three times over, as a cube, as six squares and as a cube
+    // again, in shuffled order: axis-aligned rays hit all of them at the
+    // same distance (exactly: integer coordinates), the lowest index wins.
+    let mut rng = Pcg64::seed_from_u64(25);
+    let mut objects = Vec::new();
+    for _ in 0..150 {
+        let c = point_in(&mut rng, 10.0).round();
+        let h = DVec3::new(
+            rng.random_range(1..3) as f64,
+            rng.random_range(1..3) as f64,
+            rng.random_range(1..3) as f64,
+        );
+        let mut group = vec![object(cube(c, DVec3::X, DVec3::Y, h), None)];
+        for i in 0..3 {
+            let (j, k) = ((i + 1) % 3, (i + 2) % 3);
+            for sign in [1.0, -1.0] {
+                group.push(object(
+                    square(
+                        c + DVec3::AXES[i] * (h[i] * sign),
+                        DVec3::AXES[j] * h[j],
+                        DVec3::AXES[k] * h[k],
+                    ),
+                    None,
+                ));
+            }
+        }
+        group.push(object(
+            cube(c, DVec3::Y, DVec3::Z, DVec3::new(h.y, h.z, h.x)),
+            None,
+        ));
+        objects.extend(group);
+    }
+    for i in (1..objects.len()).rev() {
+        let j = rng.random_range(0..=i);
+        objects.swap(i, j);
+    }
+    let accel = Accel::build(&objects);
+    let mut ties = 0;
+    for _ in 0..3000 {
+        let ray = Ray::new(
+            point_in(&mut rng, 14.0).round() * 0.5,
+            axis_direction(&mut rng),
+        );
+        let expected = brute_intersect(&objects, &ray, f64::INFINITY);
+        if let Some((_, hit)) = expected {
+            let at_t = objects
+                .iter()
+                .filter(|o| o.shape.intersect(&ray, 0.0, f64::INFINITY).map(|g| g.t) == Some(hit.t))
+                .count();
+            ties += (at_t > 1) as u32;
+        }
+        assert_eq!(accel.intersect(&ray, f64::INFINITY), expected, "{ray:?}");
+    }
+    assert!(ties > 500, "only {ties} ties");
+    check(&objects, 1000, 14.0, 26);
+}
+
 #[test]
 fn empty_scene_hits_nothing() {
     let accel = Accel::build(&[]);
@@ -275,6 +496,36 @@ fn one_object_of_each_kind() {
             5.0,
         ),
         (plane(DVec3::Y, 5.0), 5.0),
+        (
+            square(DVec3::new(0.0, 5.0, 0.0), DVec3::X, DVec3::Z * 2.0),
+            5.0,
+        ),
+        (
+            cube(
+                DVec3::new(0.0, 5.0, 0.0),
+                DVec3::X,
+                DVec3::Y,
+                DVec3::new(1.0, 0.5, 2.0),
+            ),
+            4.5,
+        ),
+        (
+            cylinder(DVec3::new(0.0, 3.0, 0.0), DVec3::new(0.0, 7.0, 0.0), 1.0),
+            3.0,
+        ),
+        (
+            cylinder(DVec3::new(-2.0, 5.0, 0.0), DVec3::new(2.0, 5.0, 0.0), 0.5),
+            4.5,
+        ),
+        (
+            // A cone about the x axis, radius 1 − z/4 over z in [−2, 2]: radius 1 at x = 0.
+            bezier(
+                DVec3::new(0.0, 5.0, 0.0),
+                DVec3::new(1.0, 5.0, 0.0),
+                &[(-2.0, 1.5), (2.0, 0.5)],
+            ),
+            4.0,
+        ),
     ] {
         let objects = vec![object(shape, Some(0))];
         let accel = Accel::build(&objects);

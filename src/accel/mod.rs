@@ -48,7 +48,7 @@ impl<'a> Accel<'a> {
         self.objects
     }
 
-    /// The nearest hit with 0 < t < `t_max`: the object's index and the hit.
+    /// The nearest hit with `ray.t_min` < t < `t_max`: the object's index and the hit.
     /// Of hits at the same distance, the lowest index wins.
     pub fn intersect(&self, ray: &Ray, t_max: f64) -> Option<(u32, Hit)> {
         let mut best: Option<(u32, Hit)> = None;
@@ -60,7 +60,10 @@ impl<'a> Accel<'a> {
                 Some((b, _)) if i < b => t_best.next_up(),
                 _ => *t_best,
             };
-            if let Some(h) = self.objects[i as usize].shape.intersect(ray, 0.0, limit) {
+            if let Some(h) = self.objects[i as usize]
+                .shape
+                .intersect(ray, ray.t_min, limit)
+            {
                 *t_best = h.t;
                 best = Some((i, h));
             }
@@ -77,7 +80,7 @@ impl<'a> Accel<'a> {
         best
     }
 
-    /// Whether anything lies on the ray with 0 < t < `t_max`, not counting
+    /// Whether anything lies on the ray with `ray.t_min` < t < `t_max`, not counting
     /// the visible surface of light `ignore_light`.
     pub fn occluded(&self, ray: &Ray, t_max: f64, ignore_light: Option<u32>) -> bool {
         self.occluded_hinted(ray, t_max, ignore_light, &mut None)
@@ -96,7 +99,7 @@ impl<'a> Accel<'a> {
         let blocks = |i: u32| {
             let o = &self.objects[i as usize];
             (o.light.is_none() || o.light != ignore_light)
-                && o.shape.intersect(ray, 0.0, t_max).is_some()
+                && o.shape.intersect(ray, ray.t_min, t_max).is_some()
         };
         if hint.is_some_and(blocks) {
             return true;

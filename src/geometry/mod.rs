@@ -36,13 +36,32 @@ pub struct Ray {
     pub origin: DVec3,
     /// Unit direction.
     pub dir: DVec3,
+    /// Hits at distances up to this are not reported (0 for a free ray).
+    pub t_min: f64,
 }
 
 impl Ray {
     /// A ray from `origin` along `dir`, which must already be unit length.
     #[inline]
     pub fn new(origin: DVec3, dir: DVec3) -> Self {
-        Ray { origin, dir }
+        Ray {
+            origin,
+            dir,
+            t_min: 0.0,
+        }
+    }
+
+    /// A ray from `origin`, a point nudged off a surface by [`offset_origin`],
+    /// that ignores hits within a sliver of it: where two surfaces meet (a
+    /// box's edge, a cylinder's rim) the origin lies on the other surface up
+    /// to rounding, which must not count as a fresh hit at t ≈ 1e-16.
+    #[inline]
+    pub fn off_surface(origin: DVec3, dir: DVec3) -> Self {
+        Ray {
+            origin,
+            dir,
+            t_min: SLIVER_REL * (1.0 + origin.abs().max_element()),
+        }
     }
 
     /// The point at distance `t` along the ray.
@@ -262,6 +281,11 @@ pub fn offset_origin(point: DVec3, side: DVec3) -> DVec3 {
 
 /// Relative size of the nudge in [`offset_origin`].
 pub const OFFSET_REL: f64 = 1e-9;
+
+/// Relative size of the sliver that [`Ray::off_surface`] ignores: far above
+/// rounding (1e-16), far below the nudge, so a surface the ray really leaves
+/// towards is never skipped.
+pub const SLIVER_REL: f64 = 1e-10;
 
 #[cfg(test)]
 mod tests {

@@ -167,7 +167,7 @@ impl<'a> Tracer<'a> {
             if !glossy {
                 st.rays.reflected += 1;
                 color += self.trace(
-                    &Ray::new(origin, mirror),
+                    &Ray::off_surface(origin, mirror),
                     depth + 1,
                     st,
                     hash.as_deref_mut(),
@@ -183,7 +183,7 @@ impl<'a> Tracer<'a> {
                 for _ in 0..samples {
                     let dir = glossy_direction(mirror, side, a1, a2, m.drefl, &mut st.rng);
                     st.rays.reflected += 1;
-                    sum += self.trace(&Ray::new(origin, dir), reflected_depth, st, None);
+                    sum += self.trace(&Ray::off_surface(origin, dir), reflected_depth, st, None);
                 }
                 color += sum / samples as f64 * weight;
             }
@@ -196,7 +196,7 @@ impl<'a> Tracer<'a> {
                 None => (reflect(ray.dir, n), offset_origin(point, side)),
             };
             st.rays.refracted += 1;
-            let c = self.trace(&Ray::new(origin, dir), depth + 1, st, hash);
+            let c = self.trace(&Ray::off_surface(origin, dir), depth + 1, st, hash);
             let weight = if front {
                 DVec3::splat(m.refr)
             } else {

@@ -25,7 +25,8 @@ pub fn shade_factor(
         LightKind::Point { pos } => {
             let to = pos - origin;
             let dist = to.length();
-            let blocked = dist > 0.0 && accel.occluded(&Ray::new(origin, to / dist), dist, None);
+            let blocked =
+                dist > 0.0 && accel.occluded(&Ray::off_surface(origin, to / dist), dist, None);
             (if blocked { 0.0 } else { 1.0 }, 1)
         }
         LightKind::Square { center, dx, dy } => {
@@ -40,7 +41,7 @@ pub fn shade_factor(
                     let dist = to.length();
                     if dist > 0.0
                         && !accel.occluded_hinted(
-                            &Ray::new(origin, to / dist),
+                            &Ray::off_surface(origin, to / dist),
                             dist,
                             Some(index),
                             &mut blocker,
@@ -77,7 +78,7 @@ pub fn shade_factor(
                     let phi = TAU * (c as f64 + rng.random::<f64>()) / cols as f64;
                     let dir =
                         (w * cos_t + (u_axis * phi.cos() + v_axis * phi.sin()) * sin_t).normalize();
-                    let ray = Ray::new(origin, dir);
+                    let ray = Ray::off_surface(origin, dir);
                     // Up to the light's surface (the tangent distance for rounding at the rim).
                     let t_light = sphere.roots(&ray).map_or(tangent, |(t0, _)| t0);
                     if !accel.occluded_hinted(&ray, t_light, Some(index), &mut blocker) {

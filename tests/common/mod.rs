@@ -1,0 +1,105 @@
+//! Reference helpers shared by the integration tests: independent plane
+//! solves, rotations, boxes made of squares written as scene text, and (in
+//! [`bezier`]) an independent model of Bézier surfaces of revolution.
+//!
+//! Each test crate uses only part of this module.
+#![allow(dead_code)]
+
+pub mod bezier;
+
+use glam::{DMat3, DQuat, DVec3, EulerRot};
+
+/// A rotation from three Euler angles (test-side: glam's quaternion).
+pub fn rotation(angles: DVec3) -> DMat3 {
+    DMat3::from_quat(DQuat::from_euler(
+        EulerRot::XYZ,
+        angles.x,
+        angles.y,
+        angles.z,
+    ))
+}
+
+/// Solves o + t·d = p0 + β·e1 + γ·e2 by Cramer's rule, as (t, β, γ).
+pub fn solve_plane(o: DVec3, d: DVec3, p0: DVec3, e1: DVec3, e2: DVec3) -> Option<(f64, f64, f64)> {
+    let det = DMat3::from_cols(-d, e1, e2).determinant();
+    if det.abs() < 1e-14 * e1.length() * e2.length() {
+        return None;
+    }
+    let r = o - p0;
+    Some((
+        DMat3::from_cols(r, e1, e2).determinant() / det,
+        DMat3::from_cols(-d, r, e2).determinant() / det,
+        DMat3::from_cols(-d, e1, r).determinant() / det,
+    ))
+}
+
+/// Distance from `p` to the segment [a, b].
+pub fn dist_to_segment(p: DVec3, a: DVec3, b: DVec3) -> f64 {
+    let ab = b - a;
+    let s = ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0);
+    (p - (a + ab * s)).length()
+}
+
+/// The six faces of a box with centre `c`, orthonormal axes (columns of
+/// `rot`) and half-lengths `h`, as `(centre, Dx, Dy)` of `square` blocks,
+/// built the way scene files build them: faces normal to +x, −x, +y, −y, +z, −z.
+pub fn box_faces(c: DVec3, rot: DMat3, h: DVec3) -> Vec<(DVec3, DVec3, DVec3)> {
+    let mut out = Vec::new();
+    for i in 0..3 {
+        let (j, k) = ((i + 1) % 3, (i + 2) % 3);
+        for s in [1.0, -1.0] {
+            out.push((
+                c + rot.col(i) * (h[i] * s),
+                rot.col(j) * h[j],
+                rot.col(k) * h[k],
+            ));
+        }
+    }
+    out
+}
+
+/// A vector as scene-file text, every component exactly (shortest round trip).
+pub fn scene_vec(v: DVec3) -> String {
+    format!("{:?} {:?} {:?}", v.x, v.y, v.z)
+}
+
+/// The scene text of a closed box of six `square` blocks ([`box_faces`]).
+pub fn box_of_squares_text(c: DVec3, rot: DMat3, h: DVec3) -> String {
+    let mut text = String::new();
+    for (o, dx, dy) in box_faces(c, rot, h) {
+        text += &format!(
+            "primitive square\n    O= {}\n    Dx= {}\n    Dy= {}\n    color= 1 1 1\n    diff= 1\nend\n\n",
+            scene_vec(o),
+            scene_vec(dx),
+            scene_vec(dy)
+        );
+    }
+    text
+}
+
+/// A point on the edge (or, with `lambda` = ±1, at a corner) of the box:
+/// on the faces normal to axes `i` and `j` (sides `si`, `sj`), at `lambda`
+/// (in [−1, 1]) along the third axis.
+pub fn box_edge_point(
+    c: DVec3,
+    rot: DMat3,
+    h: DVec3,
+    (i, si): (usize, f64),
+    (j, sj): (usize, f64),
+    lambda: f64,
+) -> DVec3 {
+    let k = 3 - i - j;
+    c + rot.col(i) * (h[i] * si) + rot.col(j) * (h[j] * sj) + rot.col(k) * (h[k] * lambda)
+}
+
+/// Where a ray from `o` along unit `d` leaves the box (`o` inside or on
+/// it): the smallest slab exit distance, computed per axis in the box
+/// frame, and |cos| between the ray and the exit face's normal.
+pub fn box_exit(c: DVec3, rot: DMat3, h: DVec3, o: DVec3, d: DVec3) -> (f64, f64) {
+    let l = rot.transpose() * (o - c);
+    let dl = rot.transpose() * d;
+    (0..3)
+        .filter(|&i| dl[i] != 0.0)
+        .map(|i| ((h[i] * dl[i].signum() - l[i]) / dl[i], dl[i].abs()))
+        .fold((f64::INFINITY, 0.0), |a, b| if b.0 < a.0 { b } else { a })
+}
