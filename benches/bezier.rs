@@ -1,6 +1,7 @@
 //! Ray / Bézier-surface intersection throughput: rays from outside the
 //! surface's bounding box aimed at random points inside it (hits and
-//! misses), one core. Run with `cargo bench --bench bezier`.
+//! misses), one core, for profiles of degree 1 to 8 (fixed-size arrays) and
+//! 20 and 30 (the any-degree path). Run with `cargo bench --bench bezier`.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use glam::{DVec2, DVec3};
@@ -36,6 +37,19 @@ fn box_rays(shape: &Bezier) -> Vec<Ray> {
 
 fn profile(points: &[(f64, f64)]) -> Vec<DVec2> {
     points.iter().map(|&(z, r)| DVec2::new(z, r)).collect()
+}
+
+/// A vase of degree `n` whose radius has `ribs` waves (z = 6s exactly).
+fn ribbed(n: usize, ribs: f64) -> Vec<DVec2> {
+    (0..=n)
+        .map(|k| {
+            let x = k as f64 / n as f64;
+            DVec2::new(
+                6.0 * x,
+                1.6 + 0.9 * (std::f64::consts::TAU * ribs * x).sin(),
+            )
+        })
+        .collect()
 }
 
 fn bench(c: &mut Criterion) {
@@ -74,6 +88,15 @@ fn bench(c: &mut Criterion) {
                     (7.0, 0.5),
                 ]),
             ),
+        ),
+        (
+            // Above the fixed-size path (degree 16): the per-thread buffer path.
+            "ribbed_degree20",
+            Bezier::new(DVec3::ZERO, DVec3::Z, ribbed(20, 2.0)),
+        ),
+        (
+            "ribbed_degree30",
+            Bezier::new(DVec3::ZERO, DVec3::Z, ribbed(30, 3.0)),
         ),
     ];
     let mut group = c.benchmark_group("bezier");

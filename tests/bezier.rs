@@ -9,228 +9,9 @@ use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
 use std::f64::consts::TAU;
 
-// ---------------------------------------------------------------------------
-// An independent model of the surface (de Casteljau, own frames).
+mod common;
 
-#[derive(Clone, Debug)]
-struct Model {
-    o1: DVec3,
-    o2: DVec3,
-    a: DVec3,
-    u: DVec3,
-    w: DVec3,
-    z: Vec<f64>,
-    r: Vec<f64>,
-    /// Size of the profile and its distance from O1 (for tolerances).
-    scale: f64,
-}
-
-fn casteljau(c: &[f64], s: f64) -> f64 {
-    let mut b = c.to_vec();
-    for k in 1..b.len() {
-        for i in 0..b.len() - k {
-            b[i] = b[i] * (1.0 - s) + b[i + 1] * s;
-        }
-    }
-    b[0]
-}
-
-fn hodograph(c: &[f64]) -> Vec<f64> {
-    let n = (c.len() - 1) as f64;
-    c.windows(2).map(|p| n * (p[1] - p[0])).collect()
-}
-
-fn elevate(c: &[f64]) -> Vec<f64> {
-    let n = c.len() - 1;
-    let m = (n + 1) as f64;
-    (0..=n + 1)
-        .map(|i| {
-            let k = i as f64 / m;
-            let lo = if i > 0 { c[i - 1] } else { 0.0 };
-            let hi = if i <= n { c[i] } else { 0.0 };
-            k * lo + (1.0 - k) * hi
-        })
-        .collect()
-}
-
-impl Model {
-    fn new(o1: DVec3, o2: DVec3, pts: &[(f64, f64)]) -> Model {
-        let a = (o2 - o1).normalize();
-        let helper = if a.x.abs() < 0.6 { DVec3::X } else { DVec3::Y };
-        let u = a.cross(helper).normalize();
-        let w = a.cross(u);
-        let z: Vec<f64> = pts.iter().map(|p| p.0).collect();
-        let r: Vec<f64> = pts.iter().map(|p| p.1).collect();
-        let scale = pts
-            .iter()
-            .fold(1e-3f64, |m, p| m.max(p.0.abs()).max(p.1.abs()));
-        Model {
-            o1,
-            o2,
-            a,
-            u,
-            w,
-            z,
-            r,
-            scale,
-        }
-    }
-
-    fn elevated(&self) -> Model {
-        let mut m = self.clone();
-        m.z = elevate(&self.z);
-        m.r = elevate(&self.r);
-        m
-    }
-
-    fn shape(&self) -> Bezier {
-        let pts = self
-            .z
-            .iter()
-            .zip(&self.r)
-            .map(|(&z, &r)| DVec2::new(z, r))
-            .collect();
-        Bezier::new(self.o1, self.o2, pts)
-    }
-
-    fn zr(&self, s: f64) -> (f64, f64) {
-        (casteljau(&self.z, s), casteljau(&self.r, s))
-    }
-
-    fn dzr(&self, s: f64) -> (f64, f64) {
-        (
-            casteljau(&hodograph(&self.z), s),
-            casteljau(&hodograph(&self.r), s),
-        )
-    }
-
-    fn point(&self, s: f64, phi: f64) -> DVec3 {
-        let (z, r) = self.zr(s);
-        self.o1 + self.a * z + (self.u * phi.cos() + self.w * phi.sin()) * r
-    }
-
-    /// Height along the axis and distance from it.
-    fn axial(&self, p: DVec3) -> (f64, f64) {
-        let q = p - self.o1;
-        let h = q.dot(self.a);
-        (h, (q - self.a * h).length())
-    }
-
-    /// Outward normal of the |r| profile: radial·z' − a·|r|'.
-    fn normal(&self, s: f64, p: DVec3) -> DVec3 {
-        let q = p - self.o1;
-        let radial = (q - self.a * q.dot(self.a)).normalize_or_zero();
-        let (_, r) = self.zr(s);
-        let (dz, dr) = self.dzr(s);
-        (radial * dz - self.a * dr * r.signum()).normalize_or_zero()
-    }
-
-    /// How far `p` is from the surface circle at parameter `s`.
-    fn residual(&self, s: f64, p: DVec3) -> f64 {
-        let (z, r) = self.zr(s);
-        let (h, rho) = self.axial(p);
-        (z - h).abs().max((r.abs() - rho).abs())
-    }
-
-    /// Every hit of the ray with the surface, found by scanning the exact
-    /// equations at `n` values of s and bisecting each sign change.
-    fn scan(&self, ray: &Ray, n: usize) -> Vec<RefHit> {
-        let p = ray.origin - self.o1;
-        let d = ray.dir;
-        let (pa, da) = (p.dot(self.a), d.dot(self.a));
-        let pp = p - self.a * pa;
-        let dp = d - self.a * da;
-        let aa = dp.length_squared();
-        let mut out = Vec::new();
-        let mut push = |s: f64, t: f64| {
-            let pt = ray.at(t);
-            out.push(RefHit {
-                t,
-                s,
-                cos: self.normal(s, pt).dot(d).abs(),
-            });
-        };
-        if da.abs() > 0.3 {
-            // The ray crosses height z(s) once, at t(s); compare radii there.
-            let e = |s: f64| {
-                let (z, r) = self.zr(s);
-                let t = (z - pa) / da;
-                (pp + dp * t).length_squared() - r * r
-            };
-            for s in scan_roots(&e, n) {
-                push(s, (self.zr(s).0 - pa) / da);
-            }
-        } else {
-            // Each half of the ray (split at its closest approach to the axis)
-            // reaches radius |r(s)| once; compare heights there.
-            let ts = -pp.dot(dp) / aa;
-            let rs2 = (pp + dp * ts).length_squared();
-            let hs = pa + da * ts;
-            for sigma in [-1.0, 1.0] {
-                let e = |s: f64| {
-                    let (z, r) = self.zr(s);
-                    let q = r * r - rs2;
-                    if q < 0.0 {
-                        f64::NAN
-                    } else {
-                        hs + da * sigma * (q / aa).sqrt() - z
-                    }
-                };
-                for s in scan_roots(&e, n) {
-                    let (_, r) = self.zr(s);
-                    push(s, ts + sigma * ((r * r - rs2).max(0.0) / aa).sqrt());
-                }
-            }
-        }
-        out
-    }
-}
-
-#[derive(Clone, Copy, Debug)]
-struct RefHit {
-    t: f64,
-    s: f64,
-    /// |cos| of the angle between the ray and the surface normal.
-    cos: f64,
-}
-
-/// Roots of `e` on [0, 1] from sign changes between `n` + 1 samples
-/// (NaN samples skipped), each bisected to the last bit.
-fn scan_roots(e: &impl Fn(f64) -> f64, n: usize) -> Vec<f64> {
-    let mut out = Vec::new();
-    let mut prev = (0.0, e(0.0));
-    for i in 1..=n {
-        let s = i as f64 / n as f64;
-        let v = e(s);
-        let (s0, v0) = prev;
-        if v0 == 0.0 {
-            out.push(s0);
-        } else if v0.is_finite() && v.is_finite() && v0 * v < 0.0 {
-            let (mut lo, mut hi) = (s0, s);
-            for _ in 0..200 {
-                let mid = 0.5 * (lo + hi);
-                if mid <= lo || mid >= hi {
-                    break;
-                }
-                let vm = e(mid);
-                if vm.is_nan() || (vm > 0.0) == (v0 > 0.0) {
-                    lo = mid;
-                } else {
-                    hi = mid;
-                }
-            }
-            out.push(0.5 * (lo + hi));
-        }
-        prev = (s, v);
-    }
-    if prev.1 == 0.0 {
-        out.push(1.0);
-    }
-    out
-}
-
-/// Hits closer to grazing than this are ambiguous for every method.
-const GRAZING: f64 = 1e-5;
+use common::bezier::{GRAZING, Model, RefHit, casteljau, scan_roots};
 
 /// Checks `intersect` on one ray against the reference hits `refs`:
 /// a reported hit lies on the surface circle of its s (1e-9 relative; s is
@@ -471,11 +252,77 @@ fn cylinder_matches_closed_form_at_every_degree() {
     );
     let rays = closed_form_rays(&m, 2000, 1);
     let mut e = m.clone();
-    for degree in 1..=16 {
-        if [1, 2, 3, 8, 16].contains(&degree) {
-            closed_form_check(&e, &rays, |r| cylinder_hits(&e, r, 4.0, 1.5));
+    // Up to the fixed-size path's limit (16), just past it, and the most
+    // glint accepts (64).
+    for degree in 1..=Bezier::MAX_DEGREE {
+        if [1, 2, 3, 8, 16, 17, 20, 30, 64].contains(&degree) {
+            let rays = if degree > 16 { &rays[..800] } else { &rays[..] };
+            closed_form_check(&e, rays, |r| cylinder_hits(&e, r, 4.0, 1.5));
         }
         e = e.elevated();
+    }
+    assert_eq!(
+        e.z.len(),
+        Bezier::MAX_DEGREE + 2,
+        "the loop reached the cap"
+    );
+}
+
+/// A cone (through its apex) and a paraboloid elevated to degrees 20, 30
+/// and 64 still match their closed forms exactly.
+#[test]
+fn high_degree_elevations_match_closed_forms() {
+    let o1 = DVec3::new(0.5, 0.25, -1.0);
+    let cone = Model::new(
+        o1,
+        o1 + DVec3::new(0.3, -0.2, 1.0),
+        &[(0.0, -1.0), (3.0, 2.0)],
+    );
+    let bowl = Model::new(
+        DVec3::new(-3.0, 1.0, 2.0),
+        DVec3::new(-2.8, 1.9, 1.6),
+        &[(0.0, 0.0), (0.0, 1.0), (2.5, 2.0)],
+    );
+    let cone_rays = closed_form_rays(&cone, 600, 21);
+    let bowl_rays = closed_form_rays(&bowl, 600, 22);
+    let (mut c, mut b) = (cone.clone(), bowl.clone());
+    while c.z.len() <= Bezier::MAX_DEGREE + 1 {
+        let degree = c.z.len() - 1;
+        if [20, 30, 64].contains(&degree) {
+            closed_form_check(&c, &cone_rays, |r| cone_hits(&c, r, 3.0, -1.0, 2.0));
+            apex_rays_check(&c, 3.0, -1.0, 2.0, 1000);
+        }
+        if [20, 30, 64].contains(&(b.z.len() - 1)) {
+            closed_form_check(&b, &bowl_rays, |r| paraboloid_hits(&b, r, 2.5, 2.0));
+        }
+        c = c.elevated();
+        b = b.elevated();
+    }
+}
+
+/// Rays through the apex of the cone `m` (radius r0 → r1 over height h,
+/// changing sign), from all sides: the closed form has a double root there,
+/// so check against the apex itself.
+fn apex_rays_check(m: &Model, h: f64, r0: f64, r1: f64, count: usize) {
+    let apex = m.o1 + m.a * h * r0 / (r0 - r1);
+    let cos_half_angle = h / h.hypot(r1 - r0);
+    let mut rng = Lcg(9);
+    let shape = m.shape();
+    for _ in 0..count {
+        let dir = rng.unit();
+        let dist = 0.5 + 3.0 * rng.next();
+        let ray = Ray::new(apex - dir * dist, dir);
+        let hit = shape.intersect(&ray, 0.0, f64::INFINITY);
+        let inside = dir.dot(m.a).abs() > cos_half_angle + 1e-6;
+        let outside = dir.dot(m.a).abs() < cos_half_angle - 1e-6;
+        if inside || (outside && hit.is_some()) {
+            let h = hit.unwrap_or_else(|| panic!("{ray:?} misses the apex"));
+            assert!(
+                (h.t - dist).abs() < 1e-9 * dist,
+                "{ray:?}: t {} vs {dist}",
+                h.t
+            );
+        }
     }
 }
 
@@ -493,29 +340,8 @@ fn cones_match_closed_form() {
         let m = Model::new(o1, o1 + axis, &[(0.0, r0), (3.0, r1)]);
         let rays = closed_form_rays(&m, 1500, 2);
         closed_form_check(&m, &rays, |r| cone_hits(&m, r, 3.0, r0, r1));
-        // Rays through the apex (where the radius is 0), from all sides: the
-        // closed form has a double root there, so check against the apex.
         if r0 * r1 <= 0.0 {
-            let apex = m.o1 + m.a * 3.0 * r0 / (r0 - r1);
-            let cos_half_angle = 3.0 / (3.0f64).hypot(r1 - r0);
-            let mut rng = Lcg(9);
-            let shape = m.shape();
-            for _ in 0..2000 {
-                let dir = rng.unit();
-                let dist = 0.5 + 3.0 * rng.next();
-                let ray = Ray::new(apex - dir * dist, dir);
-                let hit = shape.intersect(&ray, 0.0, f64::INFINITY);
-                let inside = dir.dot(m.a).abs() > cos_half_angle + 1e-6;
-                let outside = dir.dot(m.a).abs() < cos_half_angle - 1e-6;
-                if inside || (outside && hit.is_some()) {
-                    let h = hit.unwrap_or_else(|| panic!("{ray:?} misses the apex"));
-                    assert!(
-                        (h.t - dist).abs() < 1e-9 * dist,
-                        "{ray:?}: t {} vs {dist}",
-                        h.t
-                    );
-                }
-            }
+            apex_rays_check(&m, 3.0, r0, r1, 2000);
         }
         let e = m.elevated().elevated();
         closed_form_check(&e, &rays, |r| cone_hits(&e, r, 3.0, r0, r1));
@@ -664,43 +490,14 @@ fn tangent_rays() {
     }
 }
 
-#[test]
-fn rays_along_the_axis() {
-    // Paraboloid: a ray up the axis at offset ρ meets it at height h·ρ²/R².
-    let m = Model::new(DVec3::ZERO, DVec3::Z, &[(0.0, 0.0), (0.0, 1.0), (2.5, 2.0)]);
-    let shape = m.shape();
-    for rho in [0.0, 1e-300, 1e-12, 1e-6, 0.3, 1.0, 1.9] {
-        let ray = Ray::new(DVec3::new(rho, 0.0, -1.0), DVec3::Z);
-        let h = shape.intersect(&ray, 0.0, f64::INFINITY).expect("hit");
-        let want = 1.0 + 2.5 * rho * rho / 4.0;
-        assert!((h.t - want).abs() < 1e-12, "ρ {rho}: t {} vs {want}", h.t);
-        let n = shape.surface(&ray, &h).normal;
-        assert!(
-            n.dot(ray.dir) < 0.0,
-            "ρ {rho}: the bowl's underside faces down: {n}"
-        );
-        // From above, inside the bowl.
-        let down = Ray::new(DVec3::new(rho, 0.0, 5.0), -DVec3::Z);
-        let h = shape.intersect(&down, 0.0, f64::INFINITY).expect("hit");
-        assert!(
-            (h.t - (5.0 - want + 1.0)).abs() < 1e-12,
-            "ρ {rho} down: {}",
-            h.t
-        );
-    }
-    // An hourglass (r from 1 to −1): up the axis through the apex at height 1.
-    let m = Model::new(DVec3::ZERO, DVec3::Z, &[(0.0, 1.0), (2.0, -1.0)]);
-    let shape = m.shape();
-    for rho in [0.0, 1e-15, 1e-9, 0.5] {
-        let ray = Ray::new(DVec3::new(0.0, rho, -1.0), DVec3::Z);
-        let h = shape.intersect(&ray, 0.0, f64::INFINITY).expect("hit");
-        let want = 2.0 - rho;
-        assert!((h.t - want).abs() < 1e-12, "ρ {rho}: t {} vs {want}", h.t);
-    }
-    // Apexes where the zero of r is not a dyadic parameter (on slanted axes).
-    let mut rng = Lcg(10);
-    for i in 0..200 {
-        let degree = 1 + i % 5;
+/// `count` random profiles (degree `degree_of(i)`) running from r > 0 to
+/// r < 0, half on the z axis, half on slanted axes: rays along the axis
+/// both ways hit the first apex (a zero of r) exactly.
+fn axis_apex_check(count: usize, seed: u64, degree_of: impl Fn(usize) -> usize) {
+    let mut rng = Lcg(seed);
+    let mut checked = 0;
+    for i in 0..count {
+        let degree = degree_of(i);
         let mut pts: Vec<(f64, f64)> = (0..=degree)
             .map(|k| (k as f64 + 0.5 * rng.next(), 2.0 * rng.next() - 1.0))
             .collect();
@@ -736,8 +533,47 @@ fn rays_along_the_axis() {
                 "t {} vs {want}",
                 h.t
             );
+            checked += 1;
         }
     }
+    assert!(checked >= count / 2, "only {checked} apexes checked");
+}
+
+#[test]
+fn rays_along_the_axis() {
+    // Paraboloid: a ray up the axis at offset ρ meets it at height h·ρ²/R².
+    let m = Model::new(DVec3::ZERO, DVec3::Z, &[(0.0, 0.0), (0.0, 1.0), (2.5, 2.0)]);
+    let shape = m.shape();
+    for rho in [0.0, 1e-300, 1e-12, 1e-6, 0.3, 1.0, 1.9] {
+        let ray = Ray::new(DVec3::new(rho, 0.0, -1.0), DVec3::Z);
+        let h = shape.intersect(&ray, 0.0, f64::INFINITY).expect("hit");
+        let want = 1.0 + 2.5 * rho * rho / 4.0;
+        assert!((h.t - want).abs() < 1e-12, "ρ {rho}: t {} vs {want}", h.t);
+        let n = shape.surface(&ray, &h).normal;
+        assert!(
+            n.dot(ray.dir) < 0.0,
+            "ρ {rho}: the bowl's underside faces down: {n}"
+        );
+        // From above, inside the bowl.
+        let down = Ray::new(DVec3::new(rho, 0.0, 5.0), -DVec3::Z);
+        let h = shape.intersect(&down, 0.0, f64::INFINITY).expect("hit");
+        assert!(
+            (h.t - (5.0 - want + 1.0)).abs() < 1e-12,
+            "ρ {rho} down: {}",
+            h.t
+        );
+    }
+    // An hourglass (r from 1 to −1): up the axis through the apex at height 1.
+    let m = Model::new(DVec3::ZERO, DVec3::Z, &[(0.0, 1.0), (2.0, -1.0)]);
+    let shape = m.shape();
+    for rho in [0.0, 1e-15, 1e-9, 0.5] {
+        let ray = Ray::new(DVec3::new(0.0, rho, -1.0), DVec3::Z);
+        let h = shape.intersect(&ray, 0.0, f64::INFINITY).expect("hit");
+        let want = 2.0 - rho;
+        assert!((h.t - want).abs() < 1e-12, "ρ {rho}: t {} vs {want}", h.t);
+    }
+    // Apexes where the zero of r is not a dyadic parameter (on slanted axes).
+    axis_apex_check(200, 10, |i| 1 + i % 5);
     // A cylinder has no hit along its axis (inside or outside it).
     let m = Model::new(DVec3::ZERO, DVec3::Z, &[(0.0, 1.0), (2.0, 1.0)]);
     for x in [0.0, 0.5, 0.999, 1.001, 3.0] {
@@ -814,9 +650,15 @@ enum RayKind {
     Axial,
 }
 
+/// A random profile of degree 1–8 with a random ray (see [`arb_case_from`]).
+fn arb_case() -> impl Strategy<Value = (Model, Ray, RayKind)> {
+    arb_case_from(arb_model().boxed())
+}
+
 prop_compose! {
-    fn arb_case()(
-        m in arb_model(),
+    /// A profile from `models` with a random ray of every [`RayKind`].
+    fn arb_case_from(models: BoxedStrategy<Model>)(
+        m in models,
         s in 0.0..1.0f64,
         phi in 0.0..TAU,
         miss in prop_oneof![3 => Just(0.0), 1 => 0.0..0.3f64],
@@ -1019,6 +861,172 @@ proptest! {
 }
 
 // ---------------------------------------------------------------------------
+// High degrees (above the fixed-size path's 16).
+
+/// A "ribbed" profile of degree `n`, control points sampled from sines:
+/// z_k = h·x + a·sin(2π·fz·x + pz), r_k = r0 + b·sin(2π·fr·x + pr) at x = k/n.
+/// With a large `a` the profile folds back (z not monotone); with `b` > `r0`
+/// it crosses the axis (negative r).
+#[allow(clippy::too_many_arguments)]
+fn ribbed(
+    n: usize,
+    h: f64,
+    a: f64,
+    fz: f64,
+    pz: f64,
+    r0: f64,
+    b: f64,
+    fr: f64,
+    pr: f64,
+) -> Vec<(f64, f64)> {
+    (0..=n)
+        .map(|k| {
+            let x = k as f64 / n as f64;
+            (
+                h * x + a * (TAU * fz * x + pz).sin(),
+                r0 + b * (TAU * fr * x + pr).sin(),
+            )
+        })
+        .collect()
+}
+
+prop_compose! {
+    /// Profiles of a degree from `degrees`: random control points (free or
+    /// sorted z, any sign or positive r), or ribbed ones (see [`ribbed`]);
+    /// some with a repeated end point (the tangent vanishes there).
+    fn arb_high_model(degrees: Vec<usize>)(n in prop::sample::select(degrees))(
+        n in Just(n),
+        pts in prop::collection::vec((-5.0..5.0f64, -4.0..4.0f64), n + 1),
+        is_ribbed in any::<bool>(),
+        rib_z in (0.5..6.0f64, 0.0..2.0f64, 0.5..3.0f64, 0.0..TAU),
+        rib_r in (0.0..3.0f64, 0.0..2.0f64, 0.5..3.0f64, 0.0..TAU),
+        monotone in any::<bool>(),
+        positive in any::<bool>(),
+        repeat_end in prop::bool::weighted(0.15),
+        o1 in (-3.0..3.0f64, -3.0..3.0f64, -3.0..3.0f64),
+        axis in arb_unit(),
+        len in 0.5..3.0f64,
+    ) -> Model {
+        let mut pts = if is_ribbed {
+            ribbed(n, rib_z.0, rib_z.1, rib_z.2, rib_z.3, rib_r.0, rib_r.1, rib_r.2, rib_r.3)
+        } else {
+            pts
+        };
+        if monotone && !is_ribbed {
+            let mut z: Vec<f64> = pts.iter().map(|p| p.0).collect();
+            z.sort_by(f64::total_cmp);
+            for (p, z) in pts.iter_mut().zip(z) {
+                p.0 = z;
+            }
+        }
+        if positive {
+            for p in &mut pts {
+                p.1 = p.1.abs();
+            }
+        }
+        if repeat_end {
+            pts[1] = pts[0];
+        }
+        let o1 = DVec3::new(o1.0, o1.1, o1.2);
+        Model::new(o1, o1 + axis * len, &pts)
+    }
+}
+
+/// Checks the hit's normal against the model where it is well defined.
+fn check_normal(m: &Model, ray: &Ray) -> Result<(), TestCaseError> {
+    let shape = m.shape();
+    if let Some(h) = shape.intersect(ray, 0.0, f64::INFINITY) {
+        let sp = shape.surface(ray, &h);
+        prop_assert!((sp.normal.length() - 1.0).abs() < 1e-12);
+        let (_, rho) = m.axial(sp.point);
+        let (dz, dr) = m.dzr(h.u);
+        if rho > 1e-6 * m.scale && dz.hypot(dr) > 1e-6 * m.scale {
+            let want = m.normal(h.u, sp.point);
+            prop_assert!(sp.normal.dot(want) > 1.0 - 1e-9, "{} vs {want}", sp.normal);
+        }
+        prop_assert_eq!(sp.uv.x, h.u);
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(config(1500, 18))]
+
+    /// Degree-20 and degree-30 profiles against the scan reference, and
+    /// their normals against the model's.
+    #[test]
+    fn degree_20_and_30_profiles_match_scan_reference(
+        (m, ray, _kind) in arb_case_from(arb_high_model(vec![20, 30]).boxed()),
+    ) {
+        let refs = m.scan(&ray, 4000);
+        check(&m, &ray, 0.0, f64::INFINITY, &refs).map_err(TestCaseError::fail)?;
+        check_normal(&m, &ray)?;
+    }
+}
+
+proptest! {
+    #![proptest_config(config(200, 19))]
+
+    /// Degree-20 and degree-30 profiles from far away, and in windows.
+    #[test]
+    fn degree_20_and_30_far_origins_and_windows(
+        (m, ray, _kind) in arb_case_from(arb_high_model(vec![20, 30]).boxed()),
+        k in 1..=6i32,
+        w0 in 0.0..1.0f64,
+        w1 in 0.0..1.0f64,
+    ) {
+        let target = ray.at((m.o1 - ray.origin).dot(ray.dir));
+        let far = Ray::new(target - ray.dir * m.scale * 10f64.powi(k), ray.dir);
+        let refs = m.scan(&far, 4000);
+        check(&m, &far, 0.0, f64::INFINITY, &refs).map_err(TestCaseError::fail)?;
+        let refs = m.scan(&ray, 4000);
+        let end = refs.iter().map(|h| h.t).fold(1.0, f64::max);
+        let (t_min, t_max) = (w0.min(w1) * end, w0.max(w1) * end * 1.1);
+        check(&m, &ray, t_min, t_max, &refs).map_err(TestCaseError::fail)?;
+    }
+}
+
+proptest! {
+    #![proptest_config(config(120, 20))]
+
+    /// The highest degree glint accepts (64) against the scan reference.
+    #[test]
+    fn degree_64_profiles_match_scan_reference(
+        (m, ray, _kind) in arb_case_from(arb_high_model(vec![Bezier::MAX_DEGREE]).boxed()),
+    ) {
+        let refs = m.scan(&ray, 4000);
+        check(&m, &ray, 0.0, f64::INFINITY, &refs).map_err(TestCaseError::fail)?;
+        check_normal(&m, &ray)?;
+    }
+}
+
+/// Rays along the axis through an apex of degree-20, -30 and -64 profiles.
+#[test]
+fn high_degree_apexes_on_the_axis() {
+    axis_apex_check(90, 23, |i| [20, 30, 64][i % 3]);
+}
+
+/// A degree-64 profile is hit, one of degree 65 is refused (never hit).
+#[test]
+fn degree_cap_is_64() {
+    let pts = |count: usize| -> Vec<DVec2> {
+        (0..count)
+            .map(|k| DVec2::new(k as f64 / (count - 1) as f64, 1.0))
+            .collect()
+    };
+    let ray = Ray::new(DVec3::new(0.0, -5.0, 0.5), DVec3::Y);
+    let ok = Bezier::new(DVec3::ZERO, DVec3::Z, pts(Bezier::MAX_DEGREE + 1));
+    let h = ok
+        .intersect(&ray, 0.0, f64::INFINITY)
+        .expect("degree 64 is hit");
+    assert!((h.t - 4.0).abs() < 1e-12, "{}", h.t);
+    let refused = Bezier::new(DVec3::ZERO, DVec3::Z, pts(Bezier::MAX_DEGREE + 2));
+    assert!(refused.intersect(&ray, 0.0, f64::INFINITY).is_none());
+    assert_eq!(Bezier::MAX_DEGREE, 64);
+    assert_eq!(Bezier::MAX_FIXED_DEGREE, 16);
+}
+
+// ---------------------------------------------------------------------------
 // Tessellation.
 
 /// The surface as a grid of triangles (vertices on the surface).
@@ -1097,48 +1105,94 @@ fn tessellation_agrees() {
             ],
         ),
     ];
-    let (ns, nphi) = (300, 256);
     for m in &profiles {
-        let tris = tessellate(m, ns, nphi);
-        let shape = m.shape();
-        let mut rng = Lcg(5);
-        let mut compared = 0;
-        let rays = 120;
-        for _ in 0..rays {
-            let target = m.point(rng.next(), rng.next() * TAU) + rng.unit() * 0.05 * m.scale;
-            let center = m.o1 + m.a * 0.5 * (m.z[0] + m.z[m.z.len() - 1]);
-            let ray = ray_to(
-                center + rng.unit() * m.scale * (1.5 + 3.0 * rng.next()),
-                target,
-            );
-            let mine = shape.intersect(&ray, 0.0, f64::INFINITY);
-            let tess = tess_hit(&tris, &ray);
-            let rim = |s: f64| s < 3.0 / ns as f64 || s > 1.0 - 3.0 / ns as f64;
-            let mine_clear = mine.map(|h| {
-                let cos = m.normal(h.u, ray.at(h.t)).dot(ray.dir).abs();
-                (h, cos > 0.1 && !rim(h.u), cos)
-            });
-            match (mine_clear, tess) {
-                (None, Some((t, cos))) => {
-                    assert!(cos < 0.1, "missed tessellated hit t={t} cos={cos}")
-                }
-                (Some((h, true, _)), None) => {
-                    panic!("hit t={} s={} not in the tessellation", h.t, h.u)
-                }
-                (Some((h, true, cos)), Some((t, tcos))) if tcos > 0.1 => {
-                    let tol = 2e-3 * m.scale / cos.min(tcos);
-                    assert!(
-                        (h.t - t).abs() < tol,
-                        "t {} vs tessellation {t} (tol {tol})",
-                        h.t
-                    );
-                    compared += 1;
-                }
-                _ => {}
-            }
-        }
-        assert!(compared > rays / 3, "only {compared} compared");
+        tessellation_check(m, 300, 256, 120);
     }
+}
+
+/// Fixed degree-20 and degree-30 profiles with ribs, a lip folding back and
+/// an apex on the axis, against their tessellations.
+#[test]
+fn high_degree_tessellation_agrees() {
+    let profiles = [
+        // Degree 20: a ribbed vase closed at the bottom (r = 0 there).
+        Model::new(DVec3::new(1.0, -2.0, 0.0), DVec3::new(1.0, -2.0, 1.0), &{
+            let mut p = ribbed(20, 6.0, 0.0, 1.0, 0.0, 1.6, 0.9, 2.0, 0.0);
+            p[0].1 = 0.0;
+            p
+        }),
+        // Degree 30: z folds back (three ribs), r crosses the axis.
+        Model::new(
+            DVec3::new(-0.5, 0.3, 0.2),
+            DVec3::new(0.1, 1.0, 0.9),
+            &(0..=30)
+                .map(|k| {
+                    let x = k as f64 / 30.0;
+                    (
+                        5.0 * x + 1.5 * (TAU * 3.0 * x).sin(),
+                        1.8 * (1.3 * std::f64::consts::PI * x).cos() + 0.3,
+                    )
+                })
+                .collect::<Vec<_>>(),
+        ),
+    ];
+    // The degree-30 profile does fold back and cross the axis.
+    let folded = &profiles[1];
+    assert!(
+        scan_roots(&|s| folded.dzr(s).0, 1000).len() >= 2,
+        "z folds back"
+    );
+    assert_eq!(
+        scan_roots(&|s| folded.zr(s).1, 1000).len(),
+        1,
+        "r crosses the axis"
+    );
+    for m in &profiles {
+        tessellation_check(m, 400, 256, 150);
+    }
+}
+
+/// Compares `intersect` with the first hit on an `ns` × `nphi` tessellation
+/// for `rays` rays aimed near random surface points.
+fn tessellation_check(m: &Model, ns: usize, nphi: usize, rays: usize) {
+    let tris = tessellate(m, ns, nphi);
+    let shape = m.shape();
+    let mut rng = Lcg(5);
+    let mut compared = 0;
+    for _ in 0..rays {
+        let target = m.point(rng.next(), rng.next() * TAU) + rng.unit() * 0.05 * m.scale;
+        let center = m.o1 + m.a * 0.5 * (m.z[0] + m.z[m.z.len() - 1]);
+        let ray = ray_to(
+            center + rng.unit() * m.scale * (1.5 + 3.0 * rng.next()),
+            target,
+        );
+        let mine = shape.intersect(&ray, 0.0, f64::INFINITY);
+        let tess = tess_hit(&tris, &ray);
+        let rim = |s: f64| s < 3.0 / ns as f64 || s > 1.0 - 3.0 / ns as f64;
+        let mine_clear = mine.map(|h| {
+            let cos = m.normal(h.u, ray.at(h.t)).dot(ray.dir).abs();
+            (h, cos > 0.1 && !rim(h.u), cos)
+        });
+        match (mine_clear, tess) {
+            (None, Some((t, cos))) => {
+                assert!(cos < 0.1, "missed tessellated hit t={t} cos={cos}")
+            }
+            (Some((h, true, _)), None) => {
+                panic!("hit t={} s={} not in the tessellation", h.t, h.u)
+            }
+            (Some((h, true, cos)), Some((t, tcos))) if tcos > 0.1 => {
+                let tol = 2e-3 * m.scale / cos.min(tcos);
+                assert!(
+                    (h.t - t).abs() < tol,
+                    "t {} vs tessellation {t} (tol {tol})",
+                    h.t
+                );
+                compared += 1;
+            }
+            _ => {}
+        }
+    }
+    assert!(compared > rays / 3, "only {compared} compared");
 }
 
 // ---------------------------------------------------------------------------

@@ -787,21 +787,21 @@ fn bezier_needs_two_control_points() {
     );
     assert!(d.message.contains("at least 2"), "{d}");
     error_at("primitive bezier\n O1= 0 0 0\n O2= 0 0 1\nend", 1, 1);
-    // Degree 16 (17 points) is the most the intersection supports; the 18th point is the error.
+    // Degree 64 (65 points) is the most glint accepts; the 66th point is the error.
     let points = |n: usize| (0..n).map(|k| format!(" P= {k} 1\n")).collect::<String>();
     ok(&format!(
         "primitive bezier\n O1= 0 0 0\n O2= 0 0 1\n{}end",
-        points(17)
+        points(65)
     ));
     let d = error_at(
         &format!(
             "primitive bezier\n O1= 0 0 0\n O2= 0 0 1\n{}end",
-            points(18)
+            points(66)
         ),
-        21,
+        69,
         2,
     );
-    assert!(d.message.contains("at most 17"), "{d}");
+    assert!(d.message.contains("at most 65"), "{d}");
 }
 
 #[test]

@@ -1,5 +1,7 @@
 //! Rendering tests whose expected values are computed independently here.
 
+use glam::DVec3;
+use glint::geometry::Ray;
 use glint::{RenderOptions, Scene, render};
 
 fn scene(text: &str) -> Scene {
@@ -328,4 +330,192 @@ fn framework_scenes_render() {
         count += 1;
     }
     assert!(count >= 2, "found {count} framework scenes");
+}
+
+/// The spec's camera ray through the centre of pixel (x, y) (y counted from
+/// the top) of a W × H image: row i = H − 1 − y from the bottom, column j = x,
+/// direction N + Dy·(2(i + ½)/H − 1) + Dx·(2(j + ½)/W − 1), with
+/// Dx = unit(N × z)·lens_W/2 and Dy = unit(Dx × N)·lens_H/2 (N unit, not
+/// along z).
+fn camera_dir(n: DVec3, lens: (f64, f64), size: (u32, u32), x: u32, y: u32) -> DVec3 {
+    let n = n.normalize();
+    let right = n.cross(DVec3::Z).normalize();
+    let up = right.cross(n);
+    let (w, h) = (size.0 as f64, size.1 as f64);
+    let i = (size.1 - 1 - y) as f64 + 0.5;
+    let j = x as f64 + 0.5;
+    (n + up * (lens.1 / 2.0) * (2.0 * i / h - 1.0) + right * (lens.0 / 2.0) * (2.0 * j / w - 1.0))
+        .normalize()
+}
+
+/// Where a ray meets the plane z = `h` (if ahead).
+fn at_height(ray: &Ray, h: f64) -> Option<DVec3> {
+    let t = (h - ray.origin.z) / ray.dir.z;
+    (t > 0.0).then(|| ray.at(t))
+}
+
+/// Whether a ray passes within `radius` of `centre` ahead of its origin.
+fn passes_sphere(ray: &Ray, centre: DVec3, radius: f64) -> bool {
+    let t = (centre - ray.origin).dot(ray.dir);
+    t > 0.0 && (ray.at(t) - centre).length() < radius
+}
+
+/// Light emitters: a coloured square light and a sphere light with
+/// `intensity=`, seen directly and in a perfect mirror floor. Seen directly
+/// an emitter is its colour × intensity, clamped to 1; in the mirror it is
+/// that clamped colour × the mirror's `refl=` × its `color=` (the reflected
+/// ray is clamped before it is weighted).
+#[test]
+fn emitters_seen_directly_and_in_a_mirror() {
+    let s = scene(
+        "camera
+            O= 0 0 0
+            N= 0 1 0
+            lens_W= 1
+            lens_H= 1
+            image_W= 20
+            image_H= 20
+         end
+         light square
+            O= -1 5 0
+            Dx= 0.6 0 0
+            Dy= 0 0 0.6
+            color= 0.3 0.5 0.8
+            intensity= 1.5
+         end
+         light sphere
+            O= 2 8 0
+            R= 0.5
+            color= 0.21 0.9 0.33
+            intensity= 2
+         end
+         primitive plane
+            N= 0 0 1
+            R= -1
+            color= 0.8 0.6 1
+            refl= 0.5
+         end",
+    );
+    assert!(s.warnings.is_empty(), "intensity= is a light key");
+    let img = render(
+        &s,
+        &RenderOptions {
+            spp: Some(1),
+            ..RenderOptions::default()
+        },
+    );
+    let bytes = img.to_rgb8();
+    let at = |x: u32, y: u32| -> [u8; 3] {
+        let k = ((y * 20 + x) * 3) as usize;
+        [bytes[k], bytes[k + 1], bytes[k + 2]]
+    };
+    let ray = |x: u32, y: u32| {
+        Ray::new(
+            DVec3::ZERO,
+            camera_dir(DVec3::Y, (1.0, 1.0), (20, 20), x, y),
+        )
+    };
+    // The mirror image of a ray that meets the floor z = −1: it continues
+    // as if through the floor into the mirrored world (z → −2 − z).
+    let mirrored = |r: &Ray| {
+        let p = at_height(r, -1.0).expect("reaches the floor");
+        Ray::new(p, DVec3::new(r.dir.x, r.dir.y, -r.dir.z))
+    };
+    // Inside the square light O ± Dx ± Dy at y = 5?
+    let on_square = |r: &Ray| {
+        let t = (5.0 - r.origin.y) / r.dir.y;
+        let p = r.at(t);
+        t > 0.0 && (p.x + 1.0).abs() < 0.6 && p.z.abs() < 0.6
+    };
+    let square = [0.3 * 1.5, 0.5 * 1.5, 0.8 * 1.5];
+    let sphere = [0.21 * 2.0, 0.9 * 2.0, 0.33 * 2.0];
+    let mirror = [0.8, 0.6, 1.0];
+    let direct = |c: [f64; 3]| c.map(|v| byte(v.min(1.0)));
+    let reflected = |c: [f64; 3]| [0, 1, 2].map(|k| byte(c[k].min(1.0) * mirror[k] * 0.5));
+
+    // Pixel (5, 10): direction (−0.225, 1, −0.025) meets the square light
+    // at (−1.125, 5, −0.125), before the floor (which it would reach at y = 40).
+    let r = ray(5, 10);
+    assert!(on_square(&r) && at_height(&r, -1.0).is_some_and(|p| p.y > 5.0));
+    assert_eq!(at(5, 10), direct(square));
+    assert_eq!(direct(square), [114, 191, 255], "blue clamped to 1");
+    // Pixel (5, 18): direction (−0.225, 1, −0.425) meets the floor at y ≈ 2.35
+    // and its reflection meets the square light at (−1.125, 5, 0.125).
+    let r = ray(5, 18);
+    assert!(at_height(&r, -1.0).is_some_and(|p| p.y < 5.0) && on_square(&mirrored(&r)));
+    assert_eq!(at(5, 18), reflected(square));
+    // Blue: the clamped 1 (not 1.2) times refl 0.5 and color 1: 127, not 153.
+    assert_eq!(reflected(square), [45, 57, 127]);
+    // Pixel (14, 10): direction (0.225, 1, −0.025) passes 0.28 from the
+    // sphere light's centre (radius 0.5).
+    let r = ray(14, 10);
+    assert!(passes_sphere(&r, DVec3::new(2.0, 8.0, 0.0), 0.5));
+    assert_eq!(at(14, 10), direct(sphere));
+    assert_eq!(direct(sphere), [107, 255, 168], "green clamped to 1");
+    // Pixel (14, 15): direction (0.225, 1, −0.275) reaches the floor at y ≈ 3.6;
+    // its reflection passes 0.28 from the sphere's centre.
+    let r = ray(14, 15);
+    assert!(
+        at_height(&r, -1.0).is_some_and(|p| p.y < 7.5)
+            && passes_sphere(&mirrored(&r), DVec3::new(2.0, 8.0, 0.0), 0.5)
+    );
+    assert_eq!(at(14, 15), reflected(sphere));
+    assert_eq!(reflected(sphere), [42, 76, 84]);
+    // Pixel (10, 19): the floor, whose reflection misses both lights: the
+    // floor has no diffuse term and the background is black.
+    let r = ray(10, 19);
+    let m = mirrored(&r);
+    assert!(!on_square(&m) && !passes_sphere(&m, DVec3::new(2.0, 8.0, 0.0), 0.6));
+    assert_eq!(at(10, 19), [0, 0, 0]);
+    // Pixel (10, 0): up into the black background.
+    assert_eq!(at(10, 0), [0, 0, 0]);
+    // And in linear values (no byte rounding): exactly the clamped colours.
+    let got = img.pixel(5, 10);
+    for k in 0..3 {
+        assert!((got[k] as f64 - square[k].min(1.0)).abs() < 1e-6, "{got:?}");
+    }
+}
+
+/// The showcase (the README's first command) parses with no warning and
+/// renders, at 96 × 54, to a clean picture with plenty of detail.
+#[test]
+fn showcase_is_clean_and_renders() {
+    let mut s = Scene::from_file("examples/showcase.txt").unwrap_or_else(|e| panic!("{e}"));
+    let warnings: Vec<String> = s.warnings.iter().map(|w| w.to_string()).collect();
+    assert!(warnings.is_empty(), "{}", warnings.join("\n"));
+    assert_eq!((s.camera.width, s.camera.height), (960, 540));
+    assert_eq!(s.lights.len(), 2);
+    // Every primitive block (none is a mesh), plus the visible surfaces of
+    // the two area lights.
+    let text = std::fs::read_to_string("examples/showcase.txt").unwrap();
+    let blocks = text.lines().filter(|l| l.starts_with("primitive ")).count();
+    assert_eq!(blocks, 16);
+    assert_eq!(s.objects.len(), blocks + 2);
+    // As `--width 96` does: the aspect kept.
+    s.camera.width = 96;
+    s.camera.height = 54;
+    let img = render(&s, &RenderOptions::default());
+    assert_eq!((img.width(), img.height()), (96, 54));
+    let mut sum = 0.0;
+    for y in 0..54 {
+        for x in 0..96 {
+            let p = img.pixel(x, y);
+            assert!(
+                p.iter().all(|c| c.is_finite() && (0.0..=1.0).contains(c)),
+                "pixel ({x}, {y}) = {p:?}"
+            );
+            sum += p.iter().sum::<f32>() as f64 / 3.0;
+        }
+    }
+    let mean = sum / (96.0 * 54.0);
+    assert!(mean > 0.1 && mean < 0.7, "mean brightness {mean}");
+    let bytes = img.to_rgb8();
+    let mut colours: Vec<&[u8]> = bytes.chunks(3).collect();
+    colours.sort();
+    colours.dedup();
+    assert!(
+        colours.len() > 1500,
+        "only {} distinct colours",
+        colours.len()
+    );
 }

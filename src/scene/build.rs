@@ -1336,16 +1336,21 @@ fn bezier(b: &mut Block<'_>) -> Option<Bezier> {
         );
         return None;
     }
+    // Any degree is valid in the format; glint intersects up to degree 64,
+    // far beyond what a hand-made profile needs.
     let max = Bezier::MAX_DEGREE + 1;
     if points.len() > max {
         b.diags.error(
             points[max].1,
             format!(
-                "a `primitive bezier` profile has at most {max} control points (degree {}), found {}",
+                "a `primitive bezier` profile has at most {max} control points (degree {}) in glint, found {}",
                 Bezier::MAX_DEGREE,
                 points.len()
             ),
-            None,
+            Some(
+                "split the profile into several `primitive bezier` blocks of lower degree"
+                    .to_string(),
+            ),
         );
         return None;
     }

@@ -1,12 +1,21 @@
 //! Polynomials in the Bernstein basis on [0, 1]: evaluation, subdivision,
-//! products and real-root isolation, all on fixed-size arrays.
+//! products and real-root isolation.
+//!
+//! The per-ray routines come twice: on fixed-size arrays (lengths known at
+//! compile time, for profiles up to [`MAX_DEGREE`]), and on slices of any
+//! length with a caller's scratch buffer (the `_any` functions, for profiles
+//! up to [`LARGEST_DEGREE`]). Both run the same arithmetic in the same order.
+//! The construction-time helpers take any degree up to [`LARGEST_DEGREE`].
+
+use std::sync::OnceLock;
 
 /// Highest profile degree the fixed-size arrays hold.
 pub const MAX_DEGREE: usize = 16;
-/// Coefficients of a profile polynomial (degree ≤ [`MAX_DEGREE`]).
-pub const MAXC: usize = MAX_DEGREE + 1;
 /// Coefficients of a product of two profile polynomials.
 pub const MAXF: usize = 2 * MAX_DEGREE + 1;
+/// Highest profile degree handled at all (products reach twice this; the
+/// binomial weights of degree 2·64 stay far from overflow).
+pub const LARGEST_DEGREE: usize = 64;
 
 /// `BINOM[m][k]` = C(m, k) for m ≤ 2·[`MAX_DEGREE`].
 pub static BINOM: [[f64; MAXF]; MAXF] = binomials();
@@ -41,6 +50,58 @@ const fn inverse_binomials() -> [[f64; MAXF]; MAXF] {
         m += 1;
     }
     inv
+}
+
+/// Binomials and their inverses for every degree up to 2·[`LARGEST_DEGREE`]
+/// (rows of length m + 1), built on first use.
+struct BigTables {
+    binom: Vec<Vec<f64>>,
+    inv: Vec<Vec<f64>>,
+}
+
+fn big_tables() -> &'static BigTables {
+    static TABLES: OnceLock<BigTables> = OnceLock::new();
+    TABLES.get_or_init(|| {
+        let top = 2 * LARGEST_DEGREE;
+        let mut binom: Vec<Vec<f64>> = Vec::with_capacity(top + 1);
+        for m in 0..=top {
+            let row = (0..=m)
+                .map(|k| {
+                    if k == 0 || k == m {
+                        1.0
+                    } else {
+                        binom[m - 1][k - 1] + binom[m - 1][k]
+                    }
+                })
+                .collect();
+            binom.push(row);
+        }
+        let inv = binom
+            .iter()
+            .map(|row| row.iter().map(|b| 1.0 / b).collect())
+            .collect();
+        BigTables { binom, inv }
+    })
+}
+
+/// C(m, k) for k = 0..=m (at least), m ≤ 2·[`LARGEST_DEGREE`].
+#[inline]
+pub fn binom_row(m: usize) -> &'static [f64] {
+    if m < MAXF {
+        &BINOM[m]
+    } else {
+        &big_tables().binom[m]
+    }
+}
+
+/// 1 / C(m, k) for k = 0..=m (at least), m ≤ 2·[`LARGEST_DEGREE`].
+#[inline]
+pub fn inv_binom_row(m: usize) -> &'static [f64] {
+    if m < MAXF {
+        &INV_BINOM[m]
+    } else {
+        &big_tables().inv[m]
+    }
 }
 
 /// Value of the degree-`m` polynomial `c` at `x`.
@@ -86,54 +147,73 @@ pub fn eval_d(c: &[f64], m: usize, x: f64) -> (f64, f64) {
     (f + xn * x * c[m], m as f64 * d)
 }
 
-/// Splits `c` (degree `m`) at `x` into the coefficients on [0, x] and [x, 1].
+/// [`eval_d`] for any degree `m` ≤ 2·[`LARGEST_DEGREE`] (the same Horner
+/// scheme, with binomials from the larger tables above the fixed ones).
 #[inline]
+pub fn eval_d_any(c: &[f64], m: usize, x: f64) -> (f64, f64) {
+    if m < MAXF {
+        return eval_d(c, m, x);
+    }
+    let tables = big_tables();
+    let (bm, bd) = (&tables.binom[m], &tables.binom[m - 1]);
+    let s = 1.0 - x;
+    let mut xn = 1.0;
+    let mut f = c[0] * s;
+    let mut d = (c[1] - c[0]) * s;
+    for i in 1..m - 1 {
+        xn *= x;
+        f = (f + xn * bm[i] * c[i]) * s;
+        d = (d + xn * bd[i] * (c[i + 1] - c[i])) * s;
+    }
+    xn *= x;
+    f = (f + xn * bm[m - 1] * c[m - 1]) * s;
+    d += xn * (c[m] - c[m - 1]);
+    (f + xn * x * c[m], m as f64 * d)
+}
+
+/// Splits `c` (degree `m`) at `x` into the coefficients on [0, x] and [x, 1]
+/// (de Casteljau, in place in `right`).
 pub fn split(c: &[f64], m: usize, x: f64, left: &mut [f64], right: &mut [f64]) {
-    let mut tmp = [0.0; MAXF];
-    tmp[..=m].copy_from_slice(&c[..=m]);
-    for j in 0..=m {
-        left[j] = tmp[0];
-        right[m - j] = tmp[m - j];
+    right[..=m].copy_from_slice(&c[..=m]);
+    for (j, l) in left[..=m].iter_mut().enumerate() {
+        *l = right[0];
         for i in 0..m - j {
-            tmp[i] += x * (tmp[i + 1] - tmp[i]);
+            right[i] += x * (right[i + 1] - right[i]);
         }
     }
 }
 
 /// The coefficients of `c` (degree `m`) restricted to [a, b] ⊂ [0, 1].
-pub fn restrict(c: &[f64], m: usize, a: f64, b: f64) -> [f64; MAXF] {
-    let mut left = [0.0; MAXF];
-    let mut right = [0.0; MAXF];
+pub fn restrict(c: &[f64], m: usize, a: f64, b: f64) -> Vec<f64> {
+    let mut left = vec![0.0; m + 1];
+    let mut right = vec![0.0; m + 1];
     split(c, m, a, &mut left, &mut right);
     if a >= 1.0 {
         return right;
     }
     let x = ((b - a) / (1.0 - a)).clamp(0.0, 1.0);
-    let mut out = [0.0; MAXF];
+    let mut out = vec![0.0; m + 1];
     split(&right, m, x, &mut out, &mut left);
     out
 }
 
 /// Coefficients of the derivative (degree `m − 1`, `m ≥ 1`).
-pub fn derivative(c: &[f64], m: usize) -> [f64; MAXF] {
-    let mut d = [0.0; MAXF];
-    for i in 0..m {
-        d[i] = m as f64 * (c[i + 1] - c[i]);
-    }
-    d
+pub fn derivative(c: &[f64], m: usize) -> Vec<f64> {
+    (0..m).map(|i| m as f64 * (c[i + 1] - c[i])).collect()
 }
 
-/// Coefficients of the product of two degree-`n` polynomials (degree 2n).
-pub fn product(a: &[f64], b: &[f64], n: usize) -> [f64; MAXF] {
-    let mut out = [0.0; MAXF];
-    let bn = &BINOM[n];
+/// Coefficients of the product of two degree-`n` polynomials (degree 2n,
+/// n ≤ [`LARGEST_DEGREE`]).
+pub fn product(a: &[f64], b: &[f64], n: usize) -> Vec<f64> {
+    let mut out = vec![0.0; 2 * n + 1];
+    let bn = binom_row(n);
     for i in 0..=n {
         let ai = a[i] * bn[i];
         for j in 0..=n {
             out[i + j] += ai * b[j] * bn[j];
         }
     }
-    let inv = &INV_BINOM[2 * n];
+    let inv = inv_binom_row(2 * n);
     for k in 0..=2 * n {
         out[k] *= inv[k];
     }
@@ -299,6 +379,125 @@ fn search<const L: usize>(
     Flow::Continue
 }
 
+/// [`visit_roots`] for a polynomial of any degree `m` ≤ 2·[`LARGEST_DEGREE`],
+/// held in `buf[..=m]`: the rest of `buf` is scratch for the subdivision
+/// (grown as needed, truncated back to m + 1 on return), so that a caller
+/// that keeps its buffer allocates nothing once it has grown. The same
+/// search as the fixed-size one, step for step.
+pub fn visit_roots_any(
+    buf: &mut Vec<f64>,
+    m: usize,
+    forward: bool,
+    visit: &mut impl FnMut(f64) -> Flow,
+) -> Flow {
+    buf.truncate(m + 1);
+    search_any(buf, 0, m, 0.0, 1.0, forward, 0, visit)
+}
+
+/// [`search`] on the coefficients `buf[off..=off + m]`; the halves of a
+/// subdivision go on the end of `buf` while they are searched.
+#[allow(clippy::too_many_arguments)]
+fn search_any(
+    buf: &mut Vec<f64>,
+    off: usize,
+    m: usize,
+    xa: f64,
+    xb: f64,
+    forward: bool,
+    depth: u32,
+    visit: &mut impl FnMut(f64) -> Flow,
+) -> Flow {
+    let (c0, cm) = (buf[off], buf[off + m]);
+    let (first, last) = if forward { (xa, xb) } else { (xb, xa) };
+    let (c_first, c_last) = if forward { (c0, cm) } else { (cm, c0) };
+    if c_first == 0.0 && visit(first) == Flow::Stop {
+        return Flow::Stop;
+    }
+    let changes = sign_changes(&buf[off..], m);
+    if changes == 1 && c0 != 0.0 && cm != 0.0 {
+        let x = bracketed_root_any(&buf[off..=off + m], m);
+        if visit(xa + x * (xb - xa)) == Flow::Stop {
+            return Flow::Stop;
+        }
+    } else if changes >= 1 {
+        if depth >= MAX_DEPTH {
+            if visit(0.5 * (xa + xb)) == Flow::Stop {
+                return Flow::Stop;
+            }
+        } else {
+            // Halve at ½ (as `halve`): the left half at `base`, the right
+            // half after it, computed in place.
+            let base = buf.len();
+            buf.resize(base + 2 * (m + 1), 0.0);
+            let (src, halves) = buf.split_at_mut(base);
+            let (left, right) = halves.split_at_mut(m + 1);
+            right.copy_from_slice(&src[off..=off + m]);
+            for (j, l) in left.iter_mut().enumerate() {
+                *l = right[0];
+                for i in 0..m - j {
+                    right[i] = 0.5 * (right[i] + right[i + 1]);
+                }
+            }
+            let xm = 0.5 * (xa + xb);
+            let (l_off, r_off) = (base, base + m + 1);
+            let ((n_off, n0, n1), (f_off, f0, f1)) = if forward {
+                ((l_off, xa, xm), (r_off, xm, xb))
+            } else {
+                ((r_off, xm, xb), (l_off, xa, xm))
+            };
+            let stop = search_any(buf, n_off, m, n0, n1, forward, depth + 1, visit) == Flow::Stop
+                || search_any(buf, f_off, m, f0, f1, forward, depth + 1, visit) == Flow::Stop;
+            buf.truncate(base);
+            if stop {
+                return Flow::Stop;
+            }
+        }
+    }
+    if c_last == 0.0 && visit(last) == Flow::Stop {
+        return Flow::Stop;
+    }
+    Flow::Continue
+}
+
+/// [`bracketed_root`] for a polynomial of any degree `m` (the slice `c`).
+fn bracketed_root_any(c: &[f64], m: usize) -> f64 {
+    let positive_at_0 = c[0] > 0.0;
+    let (mut a, mut b) = (0.0, 1.0);
+    let mut x = 0.5;
+    for k in 0..m {
+        if (c[k + 1] > 0.0) != positive_at_0 {
+            x = ((k as f64 + c[k] / (c[k] - c[k + 1])) / m as f64).clamp(0.0, 1.0);
+            break;
+        }
+    }
+    let mut last_step = 1.0f64;
+    for _ in 0..200 {
+        let (f, d) = eval_d_any(c, m, x);
+        if f == 0.0 {
+            return x;
+        }
+        if (f > 0.0) == positive_at_0 {
+            a = x;
+        } else {
+            b = x;
+        }
+        let step = f / d;
+        if converged(step, last_step) {
+            return (x - step).clamp(a, b);
+        }
+        last_step = step;
+        let mut next = x - step;
+        if !(next > a && next < b) {
+            next = 0.5 * (a + b);
+        }
+        if b - a <= 1e-15 {
+            return next;
+        }
+        x = next;
+    }
+    x
+}
+
 /// Calls `$f::<L>(args)` for the array length `$len` (1 ≤ L ≤ [`MAXF`]),
 /// or gives `$default` for any other length.
 macro_rules! with_len {
@@ -336,7 +535,18 @@ pub fn roots_in_open_unit(c: &[f64], m: usize) -> Vec<f64> {
     if m == 0 || c[..=m].iter().all(|&v| v == 0.0) {
         return Vec::new();
     }
-    with_len!(m + 1, Vec::new(), roots(c))
+    if m < MAXF {
+        return with_len!(m + 1, Vec::new(), roots(c));
+    }
+    let mut out = Vec::new();
+    let mut buf = c[..=m].to_vec();
+    visit_roots_any(&mut buf, m, true, &mut |x| {
+        if x > 0.0 && x < 1.0 && out.last().is_none_or(|&l: &f64| x > l) {
+            out.push(x);
+        }
+        Flow::Continue
+    });
+    out
 }
 
 /// An upper bound within `tol` of the maximum of `c` (degree `m`) on [0, 1]
@@ -345,22 +555,20 @@ pub fn max_on_unit(c: &[f64], m: usize, tol: f64) -> f64 {
     if !c[..=m].iter().all(|v| v.is_finite()) {
         return f64::INFINITY;
     }
-    let mut first = [0.0; MAXF];
-    first[..=m].copy_from_slice(&c[..=m]);
     let mut best = c[0].max(c[m]);
     let mut bound = best;
-    let mut stack = vec![(first, 0u32)];
+    let mut stack = vec![(c[..=m].to_vec(), 0u32)];
     let mut budget = 100_000;
     while let Some((cur, depth)) = stack.pop() {
         budget -= 1;
         if budget == 0 {
             // (Unreachable for finite input; a safe answer regardless.)
-            return cur[..=m]
+            return cur
                 .iter()
-                .chain(stack.iter().flat_map(|s| &s.0[..=m]))
+                .chain(stack.iter().flat_map(|s| &s.0))
                 .fold(bound, |a, &b| a.max(b));
         }
-        let hull = cur[..=m].iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let hull = cur.iter().copied().fold(f64::NEG_INFINITY, f64::max);
         best = best.max(cur[0]).max(cur[m]);
         if hull <= best + tol {
             continue;
@@ -369,8 +577,8 @@ pub fn max_on_unit(c: &[f64], m: usize, tol: f64) -> f64 {
             bound = bound.max(hull);
             continue;
         }
-        let mut left = [0.0; MAXF];
-        let mut right = [0.0; MAXF];
+        let mut left = vec![0.0; m + 1];
+        let mut right = vec![0.0; m + 1];
         split(&cur, m, 0.5, &mut left, &mut right);
         stack.push((left, depth + 1));
         stack.push((right, depth + 1));
@@ -430,6 +638,171 @@ mod tests {
         // The pair 1e-6 apart moves by ~ε/|f'| ≈ 1e-9 under rounding of the coefficients.
         for (got, want) in r.iter().zip([0.1, 0.5, 0.500001, 0.9]) {
             assert!((got - want).abs() < 1e-8, "{got} vs {want}");
+        }
+    }
+
+    /// A small deterministic generator for the tests.
+    struct Lcg(u64);
+
+    impl Lcg {
+        fn next(&mut self) -> f64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (self.0 >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    /// Value by de Casteljau (independent of the binomial tables).
+    fn casteljau(c: &[f64], x: f64) -> f64 {
+        let mut b = c.to_vec();
+        for k in 1..b.len() {
+            for i in 0..b.len() - k {
+                b[i] = b[i] * (1.0 - x) + b[i + 1] * x;
+            }
+        }
+        b[0]
+    }
+
+    /// Bernstein coefficients of Π (x − r), built one linear factor at a
+    /// time (degree elevation of p·x and p·(1 − x)), well conditioned.
+    fn from_roots(roots: &[f64]) -> Vec<f64> {
+        let mut p = vec![1.0];
+        for &r in roots {
+            let k = p.len() - 1; // degree of p
+            let k1 = (k + 1) as f64;
+            // p·(x − r) = (1 − r)·x·p − r·(1 − x)·p.
+            p = (0..=k + 1)
+                .map(|j| {
+                    let times_x = if j > 0 { p[j - 1] * j as f64 / k1 } else { 0.0 };
+                    let times_s = if j <= k {
+                        p[j] * (k + 1 - j) as f64 / k1
+                    } else {
+                        0.0
+                    };
+                    (1.0 - r) * times_x - r * times_s
+                })
+                .collect();
+        }
+        p
+    }
+
+    fn visited_fixed<const L: usize>(c: &[f64], forward: bool) -> Vec<f64> {
+        let coeffs: [f64; L] = std::array::from_fn(|i| c[i]);
+        let mut out = Vec::new();
+        visit_roots(&coeffs, forward, &mut |x| {
+            out.push(x);
+            Flow::Continue
+        });
+        out
+    }
+
+    fn visited_any(c: &[f64], forward: bool) -> Vec<f64> {
+        let mut buf = c.to_vec();
+        // Leftover content past the polynomial must not matter.
+        buf.extend([7.0; 5]);
+        let mut out = Vec::new();
+        visit_roots_any(&mut buf, c.len() - 1, forward, &mut |x| {
+            out.push(x);
+            Flow::Continue
+        });
+        assert_eq!(buf.len(), c.len(), "the scratch is given back");
+        out
+    }
+
+    /// The slice search visits exactly (bit for bit) what the fixed-size
+    /// search visits, in both directions, for every length the fixed one has.
+    #[test]
+    fn any_degree_search_matches_fixed_search() {
+        let mut rng = Lcg(3);
+        for trial in 0..600 {
+            let m = 1 + trial % 32;
+            let c: Vec<f64> = if trial % 2 == 0 {
+                (0..=m).map(|_| 2.0 * rng.next() - 1.0).collect()
+            } else {
+                let roots: Vec<f64> = (0..m).map(|_| 1.4 * rng.next() - 0.2).collect();
+                from_roots(&roots)
+            };
+            for forward in [true, false] {
+                let fixed = with_len!(m + 1, unreachable!(), visited_fixed(&c, forward));
+                let any = visited_any(&c, forward);
+                assert_eq!(
+                    fixed.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+                    any.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+                    "{c:?}"
+                );
+            }
+        }
+    }
+
+    /// Degrees above the fixed tables: evaluation, products, restriction,
+    /// maxima and roots against de Casteljau and known roots.
+    #[test]
+    fn high_degree_routines_are_accurate() {
+        let mut rng = Lcg(5);
+        for m in [33, 40, 64, 100, 128] {
+            let c: Vec<f64> = (0..=m).map(|_| 2.0 * rng.next() - 1.0).collect();
+            // The derivative: de Casteljau on the hodograph m·(c[i+1] − c[i]).
+            let hodograph: Vec<f64> = c.windows(2).map(|w| m as f64 * (w[1] - w[0])).collect();
+            for i in 0..=50 {
+                let x = i as f64 / 50.0;
+                let (f, d) = eval_d_any(&c, m, x);
+                let want = casteljau(&c, x);
+                assert!((f - want).abs() < 1e-13, "m {m} x {x}: {f} vs {want}");
+                let want = casteljau(&hodograph, x);
+                assert!(
+                    (d - want).abs() < 1e-13 * m as f64,
+                    "m {m} x {x}: {d} vs {want}"
+                );
+            }
+        }
+        for n in [20, 30, 64] {
+            let a: Vec<f64> = (0..=n).map(|_| 2.0 * rng.next() - 1.0).collect();
+            let b: Vec<f64> = (0..=n).map(|_| 2.0 * rng.next() - 1.0).collect();
+            let ab = product(&a, &b, n);
+            let part = restrict(&a, n, 0.3, 0.55);
+            let der = derivative(&a, n);
+            for i in 0..=20 {
+                let x = i as f64 / 20.0;
+                let want = casteljau(&a, x) * casteljau(&b, x);
+                assert!((casteljau(&ab, x) - want).abs() < 1e-13, "n {n} x {x}");
+                let want = casteljau(&a, 0.3 + 0.25 * x);
+                assert!((casteljau(&part, x) - want).abs() < 1e-13, "n {n} x {x}");
+                let want = eval_d_any(&a, n, x).1;
+                assert!((casteljau(&der, x) - want).abs() < 1e-12 * n as f64);
+            }
+            let max = max_on_unit(&a, n, 1e-12);
+            let sampled = (0..=100_000)
+                .map(|i| casteljau(&a, i as f64 / 100_000.0))
+                .fold(f64::NEG_INFINITY, f64::max);
+            assert!(
+                max >= sampled && max < sampled + 1e-6,
+                "n {n}: {max} vs {sampled}"
+            );
+        }
+        // Roots: a few simple roots in (0, 1), two of them 1e-4 apart, the
+        // rest of the degree outside [0, 1] (as for a ray's polynomial).
+        for m in [34, 40, 64, 100, 128] {
+            let mut want: Vec<f64> = (0..5)
+                .map(|k| (k as f64 + 0.1 + 0.8 * rng.next()) / 5.0)
+                .collect();
+            want.push(want[2] + 1e-4);
+            let outside = (want.len()..m).map(|k| {
+                if k % 2 == 0 {
+                    -0.3 - 2.0 * rng.next()
+                } else {
+                    1.3 + 2.0 * rng.next()
+                }
+            });
+            let all: Vec<f64> = want.iter().copied().chain(outside).collect();
+            let c = from_roots(&all);
+            let got = roots_in_open_unit(&c, m);
+            want.sort_by(f64::total_cmp);
+            assert_eq!(got.len(), want.len(), "m {m}: {got:?}");
+            for (g, w) in got.iter().zip(&want) {
+                assert!((g - w).abs() < 1e-9, "m {m}: root {g} vs {w}");
+            }
         }
     }
 

@@ -24,8 +24,11 @@
 //!
 //! Where either formula for t is ill-conditioned the hit is polished by
 //! Newton's method on the original two equations. Profiles up to degree
-//! [`Bezier::MAX_DEGREE`] (16) are handled on fixed-size arrays: no
-//! allocation per ray.
+//! [`Bezier::MAX_FIXED_DEGREE`] (16) are solved on fixed-size arrays, one
+//! specialisation per degree. Higher degrees, up to [`Bezier::MAX_DEGREE`]
+//! (64), run the same algorithm on slices: the polynomial and its
+//! subdivisions live in a per-thread buffer that grows to the largest size
+//! needed and is then reused, so they allocate nothing per ray either.
 //!
 //! The outward normal is ρ̂·z'(s) − a·|r|'(s), with ρ̂ the unit vector from
 //! the axis to the hit point: the profile's tangent in the (radius, height)
@@ -39,10 +42,11 @@ mod bernstein;
 
 use super::{Aabb, Hit, Ray, SurfacePoint, angle_around, axis_frame};
 use bernstein::{
-    BINOM, Flow, INV_BINOM, MAXC, converged, derivative, eval_d, max_on_unit, restrict,
-    roots_in_open_unit, visit_roots,
+    BINOM, Flow, INV_BINOM, binom_row, converged, derivative, eval_d, eval_d_any, inv_binom_row,
+    max_on_unit, restrict, roots_in_open_unit, visit_roots, visit_roots_any,
 };
 use glam::{DVec2, DVec3};
+use std::cell::RefCell;
 use std::f64::consts::TAU;
 
 /// The surface swept by rotating a Bézier profile (z along the axis from
@@ -62,9 +66,9 @@ pub struct Bezier {
     e2: DVec3,
     /// Profile degree; 0 marks a surface that is never hit (bad input).
     degree: usize,
-    /// Profile coefficients on the whole curve.
-    z: [f64; MAXC],
-    r: [f64; MAXC],
+    /// Profile coefficients on the whole curve (degree + 1 each).
+    z: Vec<f64>,
+    r: Vec<f64>,
     /// A point on the axis near the surface: rays are restarted from their
     /// closest approach to it so that all arithmetic is at object scale.
     center: DVec3,
@@ -118,10 +122,19 @@ const TARGET_PIECES: usize = 4;
 /// Pieces sorted by entry distance before solving; more are solved unsorted.
 const SORTED: usize = 16;
 
+/// The value and derivative of a degree-m Bernstein polynomial at x: either
+/// [`eval_d`] (degrees whose binomials are in the fixed tables) or
+/// [`eval_d_any`].
+trait Eval: Fn(&[f64], usize, f64) -> (f64, f64) + Copy {}
+impl<E: Fn(&[f64], usize, f64) -> (f64, f64) + Copy> Eval for E {}
+
 impl Bezier {
-    /// Highest profile degree that is intersected (17 control points); the
+    /// Highest profile degree that is intersected (65 control points); the
     /// parser rejects more, and a surface built with more is never hit.
-    pub const MAX_DEGREE: usize = bernstein::MAX_DEGREE;
+    pub const MAX_DEGREE: usize = bernstein::LARGEST_DEGREE;
+    /// Highest profile degree solved on fixed-size arrays specialised per
+    /// degree (the fastest path); higher degrees use a per-thread buffer.
+    pub const MAX_FIXED_DEGREE: usize = bernstein::MAX_DEGREE;
 
     /// A surface from the spec's keys (O1 ≠ O2, at least two control points).
     pub fn new(o1: DVec3, o2: DVec3, points: Vec<DVec2>) -> Self {
@@ -139,8 +152,8 @@ impl Bezier {
             e1,
             e2,
             degree: 0,
-            z: [0.0; MAXC],
-            r: [0.0; MAXC],
+            z: Vec::new(),
+            r: Vec::new(),
             center: o1,
             scale: 1.0,
             pieces: Vec::new(),
@@ -153,10 +166,8 @@ impl Bezier {
             return shape;
         }
         shape.degree = degree;
-        for (i, p) in shape.points.iter().enumerate() {
-            shape.z[i] = p.x;
-            shape.r[i] = p.y;
-        }
+        shape.z = shape.points.iter().map(|p| p.x).collect();
+        shape.r = shape.points.iter().map(|p| p.y).collect();
         let (z_min, z_max) = min_max(&shape.z[..=degree]);
         let r_max = shape.r[..=degree]
             .iter()
@@ -267,8 +278,9 @@ impl Bezier {
                 .into_iter()
                 .enumerate()
             {
-                let c: [f64; MAXC] =
-                    std::array::from_fn(|j| sz * ak * self.z[j] + sr * wk * self.r[j]);
+                let c: Vec<f64> = (0..=n)
+                    .map(|j| sz * ak * self.z[j] + sr * wk * self.r[j])
+                    .collect();
                 extremes[e] = max_on_unit(&c, n, tol);
             }
             hi[k] = extremes[0].max(extremes[1]);
@@ -367,13 +379,17 @@ impl Bezier {
     /// The nearest hit on piece `i` with t_min < t < t_max, as (t, s).
     fn solve_piece(&self, i: usize, fr: &Frame, slice: bool, t_max: f64) -> Option<(f64, f64)> {
         if slice {
-            return self.solve_slice(i, fr, t_max);
+            return if self.degree <= Self::MAX_FIXED_DEGREE {
+                self.solve_slice(i, fr, t_max, eval_d)
+            } else {
+                self.solve_slice(i, fr, t_max, eval_d_any)
+            };
         }
         macro_rules! by_degree {
             ($($n:literal => ($n1:literal, $l:literal)),*) => {
                 match self.degree {
                     $($n => self.solve_poly::<$n1, $l>(i, fr, t_max),)*
-                    _ => None,
+                    _ => self.solve_poly_any(i, fr, t_max),
                 }
             };
         }
@@ -433,7 +449,79 @@ impl Bezier {
             // t = w/da loses digits when dz/da is large: polish on the two equations.
             if (dz / da).abs() > 1e2 * self.scale {
                 let (rx, dr) = eval_d(&r, n, x);
-                (x, t) = polish(&z, &r, n, fr, x, t, zx, dz, rx, dr);
+                (x, t) = polish(eval_d, &z, &r, n, fr, x, t, zx, dz, rx, dr);
+            }
+            let tg = fr.t0 + t;
+            if tg <= fr.t_min {
+                return Flow::Continue;
+            }
+            if tg < t_max {
+                found = Some((tg, pc.s0 + x.clamp(0.0, 1.0) * (pc.s1 - pc.s0)));
+            }
+            Flow::Stop
+        });
+        found
+    }
+
+    /// [`Self::solve_poly`] for profiles of any degree, on the calling
+    /// thread's scratch buffer (a fresh one if that is in use).
+    fn solve_poly_any(&self, i: usize, fr: &Frame, t_max: f64) -> Option<(f64, f64)> {
+        thread_local! {
+            static SCRATCH: RefCell<Vec<f64>> = const { RefCell::new(Vec::new()) };
+        }
+        SCRATCH.with(|cell| match cell.try_borrow_mut() {
+            Ok(mut buf) => self.solve_poly_in(i, fr, t_max, &mut buf),
+            Err(_) => self.solve_poly_in(i, fr, t_max, &mut Vec::new()),
+        })
+    }
+
+    /// The body of [`Self::solve_poly_any`]: the same polynomial, built in
+    /// `buf` and searched there.
+    fn solve_poly_in(
+        &self,
+        i: usize,
+        fr: &Frame,
+        t_max: f64,
+        buf: &mut Vec<f64>,
+    ) -> Option<(f64, f64)> {
+        let n = self.degree;
+        let l = 2 * n + 1;
+        let (z, r, rrs) = self.piece_coefs(i);
+        let pc = &self.pieces[i];
+        let (pa, da) = (fr.pa, fr.da);
+        let c = fr.c;
+        let bn = binom_row(n);
+        let two_b_da = 2.0 * fr.b * da;
+        buf.clear();
+        buf.resize(l + 2 * (n + 1), 0.0);
+        let (f, rest) = buf.split_at_mut(l);
+        let (wh, vh) = rest.split_at_mut(n + 1);
+        for j in 0..=n {
+            let w = z[j] - pa;
+            wh[j] = bn[j] * w;
+            vh[j] = bn[j] * (fr.a * w + two_b_da);
+        }
+        for j in 0..=n {
+            for k in 0..=n {
+                f[j + k] += wh[j] * vh[k];
+            }
+        }
+        let dd = da * da;
+        let inv = inv_binom_row(2 * n);
+        for k in 0..l {
+            f[k] = f[k] * inv[k] + dd * (c - rrs[k]);
+        }
+        f[0] = (fr.dp * (z[0] - pa) + fr.pp * da).length_squared() - dd * r[0] * r[0];
+        f[l - 1] = (fr.dp * (z[n] - pa) + fr.pp * da).length_squared() - dd * r[n] * r[n];
+        buf.truncate(l);
+        let forward = pc.z_up == (da > 0.0);
+        let mut found = None;
+        visit_roots_any(buf, l - 1, forward, &mut |x| {
+            let (zx, dz) = eval_d_any(z, n, x);
+            let (mut x, mut t) = (x, (zx - pa) / da);
+            if (dz / da).abs() > 1e2 * self.scale {
+                let (rx, dr) = eval_d_any(r, n, x);
+                (x, t) = polish(eval_d_any, z, r, n, fr, x, t, zx, dz, rx, dr);
             }
             let tg = fr.t0 + t;
             if tg <= fr.t_min {
@@ -450,7 +538,8 @@ impl Bezier {
     /// Rays nearly perpendicular to the axis: each half of the ray, split at
     /// its closest approach t* to the axis, meets the piece where
     /// g(s) = √A·(z(s) − h*) ∓ da·√(r(s)² − ρ*²) = 0.
-    fn solve_slice(&self, i: usize, fr: &Frame, t_max: f64) -> Option<(f64, f64)> {
+    /// `eval` evaluates the profile polynomials.
+    fn solve_slice(&self, i: usize, fr: &Frame, t_max: f64, eval: impl Eval) -> Option<(f64, f64)> {
         let n = self.degree;
         let (z, r, _) = self.piece_coefs(i);
         let pc = &self.pieces[i];
@@ -479,8 +568,8 @@ impl Bezier {
                 let mut x = (g0 / (g0 - g1)).clamp(0.0, 1.0);
                 let mut last_step = 1.0f64;
                 for _ in 0..200 {
-                    let (zx, dz) = eval_d(z, n, x);
-                    let (rx, dr) = eval_d(r, n, x);
+                    let (zx, dz) = eval(z, n, x);
+                    let (rx, dr) = eval(r, n, x);
                     let q = rx * rx - rs2;
                     let gx = g(zx, rx);
                     if gx == 0.0 {
@@ -509,14 +598,14 @@ impl Bezier {
                 }
                 x
             };
-            let (zx, dz) = eval_d(z, n, x);
-            let (rx, dr) = eval_d(r, n, x);
+            let (zx, dz) = eval(z, n, x);
+            let (rx, dr) = eval(r, n, x);
             let q = rx * rx - rs2;
             if q < -q_tol {
                 continue;
             }
             let t = ts + sigma * (q.max(0.0) / fr.a).sqrt();
-            let (x, t) = polish(z, r, n, fr, x, t, zx, dz, rx, dr);
+            let (x, t) = polish(eval, z, r, n, fr, x, t, zx, dz, rx, dr);
             let tg = fr.t0 + t;
             if tg > fr.t_min && tg < t_max {
                 return Some((tg, pc.s0 + x.clamp(0.0, 1.0) * (pc.s1 - pc.s0)));
@@ -552,14 +641,14 @@ impl Bezier {
         let s = s.clamp(0.0, 1.0);
         // Step inward from the ends, where the derivative or r may vanish.
         let inward = if s < 0.5 { 1e-7 } else { -1e-7 };
-        let (mut rs, mut dr) = eval_d(&self.r, n, s);
-        let (_, mut dz) = eval_d(&self.z, n, s);
+        let (mut rs, mut dr) = eval_d_any(&self.r, n, s);
+        let (_, mut dz) = eval_d_any(&self.z, n, s);
         if dz.hypot(dr) <= 1e-12 * self.scale {
-            (rs, dr) = eval_d(&self.r, n, s + inward);
-            dz = eval_d(&self.z, n, s + inward).1;
+            (rs, dr) = eval_d_any(&self.r, n, s + inward);
+            dz = eval_d_any(&self.z, n, s + inward).1;
         }
         if rs == 0.0 {
-            rs = eval_d(&self.r, n, s + inward).0;
+            rs = eval_d_any(&self.r, n, s + inward).0;
         }
         let d_rho = if rs < 0.0 { -dr } else { dr };
         let radial = q - self.axis * q.dot(self.axis);
@@ -611,9 +700,11 @@ fn cull(pc: &Piece, fr: &Frame, lo: f64, hi: f64) -> Option<f64> {
 }
 
 /// Newton's method on z(x) = pa + t·da, r(x)² = |p⊥ + t·d⊥|² from (x, t),
-/// given z, z', r, r' at x; keeps the best point by residual.
+/// given z, z', r, r' at x (`eval` evaluates z and r); keeps the best point
+/// by residual.
 #[allow(clippy::too_many_arguments)]
 fn polish(
+    eval: impl Eval,
     z: &[f64],
     r: &[f64],
     n: usize,
@@ -650,8 +741,8 @@ fn polish(
         }
         x -= (f1 * j22 + fr.da * f2) / det;
         t -= (dz * f2 - j21 * f1) / det;
-        (zx, dz) = eval_d(z, n, x);
-        (rx, dr) = eval_d(r, n, x);
+        (zx, dz) = eval(z, n, x);
+        (rx, dr) = eval(r, n, x);
     }
     best
 }
