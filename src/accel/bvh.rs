@@ -166,8 +166,10 @@ impl Bvh {
         // Slot 0 stays unused: the root is returned, its descendants start at 1.
         let mut slots = vec![Node::default(); 2 * n - 1];
         let (root, count) = build_node(&mut items, 0, ext, 0, &mut slots[1..], 1);
-        let pairs = compact(root, &slots, count);
+        // The items go before the compact copy is made: a lower peak.
         let prims = items.iter().map(|it| it.index).collect();
+        drop(items);
+        let pairs = compact(root, &slots, count);
         Bvh { pairs, prims }
     }
 
