@@ -125,26 +125,10 @@ pub fn eval(c: &[f64], m: usize, x: f64) -> f64 {
 #[inline(always)]
 pub fn eval_d(c: &[f64], m: usize, x: f64) -> (f64, f64) {
     match m {
-        0 => return (c[0], 0.0),
-        1 => return (c[0] * (1.0 - x) + c[1] * x, c[1] - c[0]),
-        _ => {}
+        0 => (c[0], 0.0),
+        1 => (c[0] * (1.0 - x) + c[1] * x, c[1] - c[0]),
+        _ => horner_d(c, m, x, &BINOM[m], &BINOM[m - 1]),
     }
-    let s = 1.0 - x;
-    let bm = &BINOM[m];
-    let bd = &BINOM[m - 1];
-    let mut xn = 1.0;
-    let mut f = c[0] * s;
-    // The derivative is m·Σ (c[i+1] − c[i]) B(m−1, i): the same Horner scheme one degree lower.
-    let mut d = (c[1] - c[0]) * s;
-    for i in 1..m - 1 {
-        xn *= x;
-        f = (f + xn * bm[i] * c[i]) * s;
-        d = (d + xn * bd[i] * (c[i + 1] - c[i])) * s;
-    }
-    xn *= x;
-    f = (f + xn * bm[m - 1] * c[m - 1]) * s;
-    d += xn * (c[m] - c[m - 1]);
-    (f + xn * x * c[m], m as f64 * d)
 }
 
 /// [`eval_d`] for any degree `m` ≤ 2·[`LARGEST_DEGREE`] (the same Horner
@@ -155,10 +139,19 @@ pub fn eval_d_any(c: &[f64], m: usize, x: f64) -> (f64, f64) {
         return eval_d(c, m, x);
     }
     let tables = big_tables();
-    let (bm, bd) = (&tables.binom[m], &tables.binom[m - 1]);
+    horner_d(c, m, x, &tables.binom[m], &tables.binom[m - 1])
+}
+
+/// Value and derivative at `x` of the degree-`m` polynomial `c` (m ≥ 2),
+/// given the binomial rows `bm` of degree m and `bd` of degree m − 1.
+#[inline(always)]
+fn horner_d(c: &[f64], m: usize, x: f64, bm: &[f64], bd: &[f64]) -> (f64, f64) {
+    // Slices of the exact lengths up front: no bounds checks in the loop.
+    let (c, bm, bd) = (&c[..=m], &bm[..m], &bd[..m]);
     let s = 1.0 - x;
     let mut xn = 1.0;
     let mut f = c[0] * s;
+    // The derivative is m·Σ (c[i+1] − c[i]) B(m−1, i): the same Horner scheme one degree lower.
     let mut d = (c[1] - c[0]) * s;
     for i in 1..m - 1 {
         xn *= x;
@@ -255,10 +248,21 @@ fn halve<const L: usize>(c: &[f64; L]) -> ([f64; L], [f64; L]) {
 }
 
 /// The root in (0, 1) of a polynomial (degree L − 1) whose end values have
-/// opposite signs and which has exactly one root there: Newton's method
-/// kept inside a shrinking bracket, bisecting when a step leaves it.
+/// opposite signs and which has exactly one root there.
 fn bracketed_root<const L: usize>(c: &[f64; L]) -> f64 {
-    let m = L - 1;
+    newton_in_bracket(c, L - 1, |x| eval_d(c, L - 1, x))
+}
+
+/// [`bracketed_root`] for a polynomial of any degree `m` (the slice `c`).
+fn bracketed_root_any(c: &[f64], m: usize) -> f64 {
+    newton_in_bracket(c, m, |x| eval_d_any(c, m, x))
+}
+
+/// The single root in (0, 1) of the degree-`m` polynomial `c` (`eval` gives
+/// its value and derivative), whose end values have opposite signs: Newton's
+/// method kept inside a shrinking bracket, bisecting when a step leaves it.
+#[inline(always)]
+fn newton_in_bracket(c: &[f64], m: usize, eval: impl Fn(f64) -> (f64, f64)) -> f64 {
     let positive_at_0 = c[0] > 0.0;
     let (mut a, mut b) = (0.0, 1.0);
     // Start where the control polygon first crosses zero.
@@ -271,7 +275,7 @@ fn bracketed_root<const L: usize>(c: &[f64; L]) -> f64 {
     }
     let mut last_step = 1.0f64;
     for _ in 0..200 {
-        let (f, d) = eval_d(c, m, x);
+        let (f, d) = eval(x);
         if f == 0.0 {
             return x;
         }
@@ -457,45 +461,6 @@ fn search_any(
         return Flow::Stop;
     }
     Flow::Continue
-}
-
-/// [`bracketed_root`] for a polynomial of any degree `m` (the slice `c`).
-fn bracketed_root_any(c: &[f64], m: usize) -> f64 {
-    let positive_at_0 = c[0] > 0.0;
-    let (mut a, mut b) = (0.0, 1.0);
-    let mut x = 0.5;
-    for k in 0..m {
-        if (c[k + 1] > 0.0) != positive_at_0 {
-            x = ((k as f64 + c[k] / (c[k] - c[k + 1])) / m as f64).clamp(0.0, 1.0);
-            break;
-        }
-    }
-    let mut last_step = 1.0f64;
-    for _ in 0..200 {
-        let (f, d) = eval_d_any(c, m, x);
-        if f == 0.0 {
-            return x;
-        }
-        if (f > 0.0) == positive_at_0 {
-            a = x;
-        } else {
-            b = x;
-        }
-        let step = f / d;
-        if converged(step, last_step) {
-            return (x - step).clamp(a, b);
-        }
-        last_step = step;
-        let mut next = x - step;
-        if !(next > a && next < b) {
-            next = 0.5 * (a + b);
-        }
-        if b - a <= 1e-15 {
-            return next;
-        }
-        x = next;
-    }
-    x
 }
 
 /// Calls `$f::<L>(args)` for the array length `$len` (1 ≤ L ≤ [`MAXF`]),
