@@ -444,23 +444,43 @@ impl Bezier {
         let forward = pc.z_up == (da > 0.0);
         let mut found = None;
         visit_roots(&f, forward, &mut |x| {
-            let (zx, dz) = eval_d(&z, n, x);
-            let (mut x, mut t) = (x, (zx - pa) / da);
-            // t = w/da loses digits when dz/da is large: polish on the two equations.
-            if (dz / da).abs() > 1e2 * self.scale {
-                let (rx, dr) = eval_d(&r, n, x);
-                (x, t) = polish(eval_d, &z, &r, n, fr, x, t, zx, dz, rx, dr);
-            }
-            let tg = fr.t0 + t;
-            if tg <= fr.t_min {
-                return Flow::Continue;
-            }
-            if tg < t_max {
-                found = Some((tg, pc.s0 + x.clamp(0.0, 1.0) * (pc.s1 - pc.s0)));
-            }
-            Flow::Stop
+            self.take_root(eval_d, &z, &r, pc, fr, t_max, x, &mut found)
         });
         found
+    }
+
+    /// What the search for roots of the ray's polynomial does with the root
+    /// `x` (curve parameter within piece `pc`): its distance, polished where
+    /// t = w/da loses digits; a hit before the window is passed over, one in
+    /// it is kept in `found`, and either way the search stops past the window.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn take_root(
+        &self,
+        eval: impl Eval,
+        z: &[f64],
+        r: &[f64],
+        pc: &Piece,
+        fr: &Frame,
+        t_max: f64,
+        x: f64,
+        found: &mut Option<(f64, f64)>,
+    ) -> Flow {
+        let n = z.len() - 1;
+        let (zx, dz) = eval(z, n, x);
+        let (mut x, mut t) = (x, (zx - fr.pa) / fr.da);
+        if (dz / fr.da).abs() > 1e2 * self.scale {
+            let (rx, dr) = eval(r, n, x);
+            (x, t) = polish(eval, z, r, n, fr, x, t, zx, dz, rx, dr);
+        }
+        let tg = fr.t0 + t;
+        if tg <= fr.t_min {
+            return Flow::Continue;
+        }
+        if tg < t_max {
+            *found = Some((tg, pc.s0 + x.clamp(0.0, 1.0) * (pc.s1 - pc.s0)));
+        }
+        Flow::Stop
     }
 
     /// [`Self::solve_poly`] for profiles of any degree, on the calling
@@ -517,20 +537,7 @@ impl Bezier {
         let forward = pc.z_up == (da > 0.0);
         let mut found = None;
         visit_roots_any(buf, l - 1, forward, &mut |x| {
-            let (zx, dz) = eval_d_any(z, n, x);
-            let (mut x, mut t) = (x, (zx - pa) / da);
-            if (dz / da).abs() > 1e2 * self.scale {
-                let (rx, dr) = eval_d_any(r, n, x);
-                (x, t) = polish(eval_d_any, z, r, n, fr, x, t, zx, dz, rx, dr);
-            }
-            let tg = fr.t0 + t;
-            if tg <= fr.t_min {
-                return Flow::Continue;
-            }
-            if tg < t_max {
-                found = Some((tg, pc.s0 + x.clamp(0.0, 1.0) * (pc.s1 - pc.s0)));
-            }
-            Flow::Stop
+            self.take_root(eval_d_any, z, r, pc, fr, t_max, x, &mut found)
         });
         found
     }
