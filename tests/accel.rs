@@ -2,7 +2,10 @@
 //! nearest hit (index and distance, lowest index on ties) and the same
 //! any-hit answer, on random and degenerate scenes of every kind of shape.
 
-use glam::{DVec2, DVec3};
+mod common;
+
+use common::{half_sizes, log_size, point_in, random_sign};
+use glam::{DMat3, DVec2, DVec3};
 use glint::accel::Accel;
 use glint::geometry::{Bezier, Cube, Cylinder, Hit, Plane, Ray, Shape, Sphere, Square, Triangle};
 use glint::scene::{Object, Scene};
@@ -90,30 +93,16 @@ fn unit_vector(rng: &mut Pcg64) -> DVec3 {
     }
 }
 
-fn point_in(rng: &mut Pcg64, half: f64) -> DVec3 {
-    DVec3::new(
-        rng.random_range(-half..half),
-        rng.random_range(-half..half),
-        rng.random_range(-half..half),
-    )
-}
-
-/// A log-uniform size in [lo, hi].
-fn size(rng: &mut Pcg64, lo: f64, hi: f64) -> f64 {
-    (rng.random_range(lo.ln()..hi.ln())).exp()
-}
-
 /// A direction with some components exactly zero (of either sign).
 fn axis_direction(rng: &mut Pcg64) -> DVec3 {
     let zero = |rng: &mut Pcg64| if rng.random_bool(0.5) { 0.0 } else { -0.0 };
-    let sign = |rng: &mut Pcg64| if rng.random_bool(0.5) { 1.0 } else { -1.0 };
     let mut v = DVec3::new(zero(rng), zero(rng), zero(rng));
     let a = rng.random_range(0..3usize);
-    v[a] = sign(rng);
+    v[a] = random_sign(rng);
     if rng.random_bool(0.3) {
         // In a coordinate plane: one zero component.
         let b = (a + 1 + rng.random_range(0..2usize)) % 3;
-        v[b] = sign(rng) * rng.random_range(0.1..1.0);
+        v[b] = random_sign(rng) * rng.random_range(0.1..1.0);
     }
     v.normalize()
 }
@@ -163,6 +152,45 @@ fn random_ray(rng: &mut Pcg64, objects: &[Object], half: f64) -> Ray {
         (3, _) => Ray::new(point_in(rng, half), axis_direction(rng)),
         _ => Ray::new(point_in(rng, half), unit_vector(rng)),
     }
+}
+
+/// Hands a light (counting 1, 2, … modulo `m`) to about one object in twenty.
+fn light_flags(m: u32) -> impl FnMut(&mut Pcg64) -> Option<u32> {
+    let mut light = 0;
+    move |rng: &mut Pcg64| {
+        rng.random_bool(0.05).then(|| {
+            light += 1;
+            light % m
+        })
+    }
+}
+
+/// Shuffles `objects` (Fisher–Yates) so the tree order differs from the index order.
+fn shuffle(rng: &mut Pcg64, objects: &mut [Object]) {
+    for i in (1..objects.len()).rev() {
+        let j = rng.random_range(0..=i);
+        objects.swap(i, j);
+    }
+}
+
+/// A closed box of six `square` objects ([`common::box_faces`]), no light.
+fn six_squares(c: DVec3, rot: DMat3, h: DVec3) -> impl Iterator<Item = Object> {
+    common::box_faces(c, rot, h)
+        .into_iter()
+        .map(|(o, dx, dy)| object(square(o, dx, dy), None))
+}
+
+/// Asserts the tree's nearest hit is brute force's, and says whether several objects share its distance.
+fn check_tie(accel: &Accel, objects: &[Object], ray: &Ray) -> bool {
+    let expected = brute_intersect(objects, ray, f64::INFINITY);
+    assert_eq!(accel.intersect(ray, f64::INFINITY), expected, "{ray:?}");
+    expected.is_some_and(|(_, hit)| {
+        let at_t = objects
+            .iter()
+            .filter(|o| o.shape.intersect(ray, 0.0, f64::INFINITY).map(|g| g.t) == Some(hit.t))
+            .count();
+        at_t > 1
+    })
 }
 
 /// Checks `rays` random rays against brute force: nearest hit with several
@@ -220,22 +248,16 @@ fn check(objects: &[Object], rays: usize, half: f64, seed: u64) {
 /// Spheres and triangles of sizes spanning four decades, a few planes, some lights.
 fn mixed_scene(rng: &mut Pcg64, spheres: usize, triangles: usize, planes: usize) -> Vec<Object> {
     let mut objects = Vec::new();
-    let mut light = 0;
-    let mut flag = |rng: &mut Pcg64| {
-        rng.random_bool(0.05).then(|| {
-            light += 1;
-            light % 7
-        })
-    };
+    let mut flag = light_flags(7);
     for _ in 0..spheres {
         let c = point_in(rng, 10.0);
-        let r = size(rng, 1e-3, 3.0);
+        let r = log_size(rng, 1e-3, 3.0);
         let l = flag(rng);
         objects.push(object(sphere(c, r), l));
     }
     for k in 0..triangles {
         let a = point_in(rng, 10.0);
-        let s = size(rng, 1e-3, 5.0);
+        let s = log_size(rng, 1e-3, 5.0);
         let (b, c) = if k % 4 == 0 {
             // Axis-aligned, on integer coordinates: flat boxes, exact faces.
             let a = a.round();
@@ -255,10 +277,7 @@ fn mixed_scene(rng: &mut Pcg64, spheres: usize, triangles: usize, planes: usize)
         objects.push(object(plane(n, rng.random_range(-12.0..-10.0)), flag(rng)));
     }
     // Shuffle so the tree order differs from the index order.
-    for i in (1..objects.len()).rev() {
-        let j = rng.random_range(0..=i);
-        objects.swap(i, j);
-    }
+    shuffle(rng, &mut objects);
     objects
 }
 
@@ -286,16 +305,10 @@ fn small_random_scenes_match_brute_force() {
 /// planes and some lights among them.
 fn all_kinds_scene(rng: &mut Pcg64, each: usize, planes: usize) -> Vec<Object> {
     let mut objects = mixed_scene(rng, each, each, planes);
-    let mut light = 0;
-    let mut flag = |rng: &mut Pcg64| {
-        rng.random_bool(0.05).then(|| {
-            light += 1;
-            light % 5
-        })
-    };
+    let mut flag = light_flags(5);
     for k in 0..each {
         let c = point_in(rng, 10.0);
-        let s = size(rng, 1e-2, 3.0);
+        let s = log_size(rng, 1e-2, 3.0);
         let shape = if k % 3 == 0 {
             // Axis-aligned on integer coordinates: faces on BVH box faces.
             let a = rng.random_range(0..3usize);
@@ -307,7 +320,7 @@ fn all_kinds_scene(rng: &mut Pcg64, each: usize, planes: usize) -> Vec<Object> {
             square(
                 c,
                 unit_vector(rng) * s,
-                unit_vector(rng) * size(rng, 1e-2, 3.0),
+                unit_vector(rng) * log_size(rng, 1e-2, 3.0),
             )
         };
         objects.push(object(shape, flag(rng)));
@@ -320,29 +333,12 @@ fn all_kinds_scene(rng: &mut Pcg64, each: usize, planes: usize) -> Vec<Object> {
         } else {
             frame(rng)
         };
-        let axes = [x, y, x.cross(y)];
-        let h = DVec3::new(
-            size(rng, 0.05, 2.0),
-            size(rng, 0.05, 2.0),
-            size(rng, 0.05, 2.0),
-        );
-        for i in 0..3 {
-            let (j, k) = ((i + 1) % 3, (i + 2) % 3);
-            for sign in [1.0, -1.0] {
-                objects.push(object(
-                    square(c + axes[i] * (h[i] * sign), axes[j] * h[j], axes[k] * h[k]),
-                    None,
-                ));
-            }
-        }
+        let h = half_sizes(rng, 0.05, 2.0);
+        objects.extend(six_squares(c, DMat3::from_cols(x, y, x.cross(y)), h));
     }
     for k in 0..each {
         let c = point_in(rng, 10.0);
-        let h = DVec3::new(
-            size(rng, 1e-2, 2.0),
-            size(rng, 1e-2, 2.0),
-            size(rng, 1e-2, 2.0),
-        );
+        let h = half_sizes(rng, 1e-2, 2.0);
         let shape = if k % 3 == 0 {
             cube(c.round(), DVec3::X, DVec3::Y, h.ceil() * 0.5)
         } else {
@@ -353,16 +349,16 @@ fn all_kinds_scene(rng: &mut Pcg64, each: usize, planes: usize) -> Vec<Object> {
     }
     for k in 0..each {
         let o1 = point_in(rng, 10.0);
-        let len = size(rng, 1e-2, 4.0);
+        let len = log_size(rng, 1e-2, 4.0);
         let axis = if k % 3 == 0 {
             let mut a = DVec3::ZERO;
-            a[rng.random_range(0..3usize)] = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+            a[rng.random_range(0..3usize)] = random_sign(rng);
             a
         } else {
             unit_vector(rng)
         };
         objects.push(object(
-            cylinder(o1, o1 + axis * len, size(rng, 1e-2, 2.0)),
+            cylinder(o1, o1 + axis * len, log_size(rng, 1e-2, 2.0)),
             flag(rng),
         ));
     }
@@ -373,7 +369,7 @@ fn all_kinds_scene(rng: &mut Pcg64, each: usize, planes: usize) -> Vec<Object> {
         } else {
             unit_vector(rng)
         };
-        let s = size(rng, 0.05, 2.0);
+        let s = log_size(rng, 0.05, 2.0);
         let n = rng.random_range(2..=7usize);
         let mut pts: Vec<(f64, f64)> = (0..n)
             .map(|_| {
@@ -392,10 +388,7 @@ fn all_kinds_scene(rng: &mut Pcg64, each: usize, planes: usize) -> Vec<Object> {
         }
         objects.push(object(bezier(o1, o1 + axis, &pts), flag(rng)));
     }
-    for i in (1..objects.len()).rev() {
-        let j = rng.random_range(0..=i);
-        objects.swap(i, j);
-    }
+    shuffle(rng, &mut objects);
     objects
 }
 
@@ -430,29 +423,14 @@ fn coincident_boxes_tie_to_lowest_index() {
             rng.random_range(1..3) as f64,
         );
         let mut group = vec![object(cube(c, DVec3::X, DVec3::Y, h), None)];
-        for i in 0..3 {
-            let (j, k) = ((i + 1) % 3, (i + 2) % 3);
-            for sign in [1.0, -1.0] {
-                group.push(object(
-                    square(
-                        c + DVec3::AXES[i] * (h[i] * sign),
-                        DVec3::AXES[j] * h[j],
-                        DVec3::AXES[k] * h[k],
-                    ),
-                    None,
-                ));
-            }
-        }
+        group.extend(six_squares(c, DMat3::IDENTITY, h));
         group.push(object(
             cube(c, DVec3::Y, DVec3::Z, DVec3::new(h.y, h.z, h.x)),
             None,
         ));
         objects.extend(group);
     }
-    for i in (1..objects.len()).rev() {
-        let j = rng.random_range(0..=i);
-        objects.swap(i, j);
-    }
+    shuffle(&mut rng, &mut objects);
     let accel = Accel::build(&objects);
     let mut ties = 0;
     for _ in 0..3000 {
@@ -460,15 +438,7 @@ fn coincident_boxes_tie_to_lowest_index() {
             point_in(&mut rng, 14.0).round() * 0.5,
             axis_direction(&mut rng),
         );
-        let expected = brute_intersect(&objects, &ray, f64::INFINITY);
-        if let Some((_, hit)) = expected {
-            let at_t = objects
-                .iter()
-                .filter(|o| o.shape.intersect(&ray, 0.0, f64::INFINITY).map(|g| g.t) == Some(hit.t))
-                .count();
-            ties += (at_t > 1) as u32;
-        }
-        assert_eq!(accel.intersect(&ray, f64::INFINITY), expected, "{ray:?}");
+        ties += check_tie(&accel, &objects, &ray) as u32;
     }
     assert!(ties > 500, "only {ties} ties");
     check(&objects, 1000, 14.0, 26);
@@ -561,7 +531,7 @@ fn all_objects_at_one_centroid() {
     let c = DVec3::new(1.0, -2.0, 3.0);
     let mut objects = Vec::new();
     for k in 0..400 {
-        let r = size(&mut rng, 1e-3, 4.0);
+        let r = log_size(&mut rng, 1e-3, 4.0);
         objects.push(object(sphere(c, r), (k % 5 == 0).then_some(k % 3)));
         // Triangles centred on c: vertices c + u, c + v, c - u - v.
         let u = unit_vector(&mut rng) * r;
@@ -630,15 +600,7 @@ fn shared_edges_and_vertices_tie_to_lowest_index() {
         let x = rng.random_range(0..=2 * n) as f64 * 0.5;
         let y = rng.random_range(0..=2 * n) as f64 * 0.5;
         let ray = Ray::new(DVec3::new(x, y, 5.0), DVec3::new(0.0, -0.0, -1.0));
-        let expected = brute_intersect(&objects, &ray, f64::INFINITY);
-        if let Some((_, hit)) = expected {
-            let at_t = objects
-                .iter()
-                .filter(|o| o.shape.intersect(&ray, 0.0, f64::INFINITY).map(|g| g.t) == Some(hit.t))
-                .count();
-            ties += (at_t > 1) as u32;
-        }
-        assert_eq!(accel.intersect(&ray, f64::INFINITY), expected, "{ray:?}");
+        ties += check_tie(&accel, &objects, &ray) as u32;
         assert_eq!(
             accel.occluded(&ray, 6.0, None),
             brute_occluded(&objects, &ray, 6.0, None)
@@ -670,9 +632,9 @@ fn huge_and_tiny_objects_mixed() {
     for k in 0..2000 {
         let c = point_in(&mut rng, 9.0);
         let s = if k % 2 == 0 {
-            size(&mut rng, 1e-6, 1e-4)
+            log_size(&mut rng, 1e-6, 1e-4)
         } else {
-            size(&mut rng, 0.1, 2.0)
+            log_size(&mut rng, 0.1, 2.0)
         };
         objects.push(object(sphere(c, s), (k % 11 == 0).then_some(1)));
     }
@@ -743,7 +705,7 @@ fn scene_built_in_code_with_area_lights() {
     let mut rng = Pcg64::seed_from_u64(17);
     for b in 0..500 {
         scene.add_object(
-            sphere(point_in(&mut rng, 8.0), size(&mut rng, 0.01, 1.0)),
+            sphere(point_in(&mut rng, 8.0), log_size(&mut rng, 0.01, 1.0)),
             m,
             b,
         );

@@ -4,7 +4,7 @@
 //! parameter with bisection, and a fine triangle tessellation.
 
 use glam::{DVec2, DVec3};
-use glint::geometry::{Bezier, Ray, offset_origin};
+use glint::geometry::{Bezier, Ray, SurfacePoint, offset_origin};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
 use std::f64::consts::TAU;
@@ -78,11 +78,7 @@ fn quadratic(a: f64, b: f64, c: f64) -> Vec<f64> {
 
 /// The ray in the axis frame of `m`: (pa, da, A, B, C).
 fn axis_coords(m: &Model, ray: &Ray) -> (f64, f64, f64, f64, f64) {
-    let p = ray.origin - m.o1;
-    let d = ray.dir;
-    let (pa, da) = (p.dot(m.a), d.dot(m.a));
-    let pp = p - m.a * pa;
-    let dp = d - m.a * da;
+    let (pa, da, pp, dp) = m.split(ray);
     (pa, da, dp.length_squared(), pp.dot(dp), pp.length_squared())
 }
 
@@ -597,6 +593,22 @@ fn arb_unit() -> impl Strategy<Value = DVec3> {
     ]
 }
 
+/// Sorts the control points' z (keeping their r in place) when `monotone`, and makes every r positive when `positive`.
+fn sort_z_and_fold_r(pts: &mut [(f64, f64)], monotone: bool, positive: bool) {
+    if monotone {
+        let mut z: Vec<f64> = pts.iter().map(|p| p.0).collect();
+        z.sort_by(f64::total_cmp);
+        for (p, z) in pts.iter_mut().zip(z) {
+            p.0 = z;
+        }
+    }
+    if positive {
+        for p in pts {
+            p.1 = p.1.abs();
+        }
+    }
+}
+
 prop_compose! {
     /// Degree 1–8 profiles: z free (folds back) or sorted, r of any sign or
     /// positive; some flat (one z: an annulus), some with a repeated end
@@ -611,18 +623,7 @@ prop_compose! {
         len in 0.5..3.0f64,
     ) -> Model {
         let mut pts = pts;
-        if monotone {
-            let mut z: Vec<f64> = pts.iter().map(|p| p.0).collect();
-            z.sort_by(f64::total_cmp);
-            for (p, z) in pts.iter_mut().zip(z) {
-                p.0 = z;
-            }
-        }
-        if positive {
-            for p in &mut pts {
-                p.1 = p.1.abs();
-            }
-        }
+        sort_z_and_fold_r(&mut pts, monotone, positive);
         match shape {
             1 => {
                 let z = pts[0].0;
@@ -694,6 +695,27 @@ prop_compose! {
     }
 }
 
+/// [`check`] over the whole ray against the scan reference (4000 steps), which it returns.
+fn scan_check(m: &Model, ray: &Ray) -> Result<Vec<RefHit>, TestCaseError> {
+    let refs = m.scan(ray, 4000);
+    check(m, ray, 0.0, f64::INFINITY, &refs).map_err(TestCaseError::fail)?;
+    Ok(refs)
+}
+
+/// [`check`] in the window (w0, w1 as fractions of the farthest reference hit, at least 1) against the scan reference.
+fn window_check(m: &Model, ray: &Ray, w0: f64, w1: f64) -> Result<(), TestCaseError> {
+    let refs = m.scan(ray, 4000);
+    let far = refs.iter().map(|h| h.t).fold(1.0, f64::max);
+    let (t_min, t_max) = (w0.min(w1) * far, w0.max(w1) * far * 1.1);
+    check(m, ray, t_min, t_max, &refs).map_err(TestCaseError::fail)
+}
+
+/// The ray's line, started 10^`k` object sizes before its point nearest O1.
+fn far_ray(m: &Model, ray: &Ray, k: i32) -> Ray {
+    let target = ray.at((m.o1 - ray.origin).dot(ray.dir));
+    Ray::new(target - ray.dir * m.scale * 10f64.powi(k), ray.dir)
+}
+
 fn config(cases: u32, seed: u64) -> Config {
     Config {
         cases,
@@ -708,8 +730,7 @@ proptest! {
 
     #[test]
     fn random_profiles_match_scan_reference((m, ray, _kind) in arb_case()) {
-        let refs = m.scan(&ray, 4000);
-        check(&m, &ray, 0.0, f64::INFINITY, &refs).map_err(TestCaseError::fail)?;
+        scan_check(&m, &ray)?;
     }
 }
 
@@ -719,10 +740,7 @@ proptest! {
     /// Rays from far away (up to 10⁶ times the object's size).
     #[test]
     fn far_origins_match_scan_reference((m, ray, _kind) in arb_case(), k in 1..=6i32) {
-        let target = ray.at((m.o1 - ray.origin).dot(ray.dir));
-        let far = Ray::new(target - ray.dir * m.scale * 10f64.powi(k), ray.dir);
-        let refs = m.scan(&far, 4000);
-        check(&m, &far, 0.0, f64::INFINITY, &refs).map_err(TestCaseError::fail)?;
+        scan_check(&m, &far_ray(&m, &ray, k))?;
     }
 }
 
@@ -736,10 +754,7 @@ proptest! {
         w0 in 0.0..1.0f64,
         w1 in 0.0..1.0f64,
     ) {
-        let refs = m.scan(&ray, 4000);
-        let far = refs.iter().map(|h| h.t).fold(1.0, f64::max);
-        let (t_min, t_max) = (w0.min(w1) * far, w0.max(w1) * far * 1.1);
-        check(&m, &ray, t_min, t_max, &refs).map_err(TestCaseError::fail)?;
+        window_check(&m, &ray, w0, w1)?;
     }
 }
 
@@ -770,6 +785,24 @@ proptest! {
     }
 }
 
+/// Checks the hit's unit normal against the model where it is well defined, and uv.x = s; returns the hit's surface point.
+fn check_normal(m: &Model, ray: &Ray) -> Result<Option<SurfacePoint>, TestCaseError> {
+    let shape = m.shape();
+    let Some(h) = shape.intersect(ray, 0.0, f64::INFINITY) else {
+        return Ok(None);
+    };
+    let sp = shape.surface(ray, &h);
+    prop_assert!((sp.normal.length() - 1.0).abs() < 1e-12);
+    let (_, rho) = m.axial(sp.point);
+    let (dz, dr) = m.dzr(h.u);
+    if rho > 1e-6 * m.scale && dz.hypot(dr) > 1e-6 * m.scale {
+        let want = m.normal(h.u, sp.point);
+        prop_assert!(sp.normal.dot(want) > 1.0 - 1e-9, "{} vs {want}", sp.normal);
+    }
+    prop_assert_eq!(sp.uv.x, h.u);
+    Ok(Some(sp))
+}
+
 proptest! {
     #![proptest_config(config(1500, 14))]
 
@@ -777,17 +810,8 @@ proptest! {
     /// (s, angle around the axis / 2π) in the spec's frame.
     #[test]
     fn normal_and_uv_follow_the_spec((m, ray, _kind) in arb_case()) {
-        let shape = m.shape();
-        if let Some(h) = shape.intersect(&ray, 0.0, f64::INFINITY) {
-            let sp = shape.surface(&ray, &h);
-            prop_assert!((sp.normal.length() - 1.0).abs() < 1e-12);
+        if let Some(sp) = check_normal(&m, &ray)? {
             let (_, rho) = m.axial(sp.point);
-            let (dz, dr) = m.dzr(h.u);
-            if rho > 1e-6 * m.scale && dz.hypot(dr) > 1e-6 * m.scale {
-                let want = m.normal(h.u, sp.point);
-                prop_assert!(sp.normal.dot(want) > 1.0 - 1e-9, "{} vs {want}", sp.normal);
-            }
-            prop_assert_eq!(sp.uv.x, h.u);
             // The spec's frame: e1 = unit(a × z), or x when a ∥ z; e2 = a × e1.
             let c = m.a.cross(DVec3::Z);
             let e1 = if c.length() < 1e-12 { DVec3::X } else { c.normalize() };
@@ -849,8 +873,7 @@ proptest! {
             let side = if dir.dot(sp.normal) > 0.0 { sp.normal } else { -sp.normal };
             let next = Ray::new(offset_origin(sp.point, side), dir);
             if let Some(g) = shape.intersect(&next, 0.0, f64::INFINITY) {
-                let refs = m.scan(&next, 4000);
-                check(&m, &next, 0.0, f64::INFINITY, &refs).map_err(TestCaseError::fail)?;
+                let refs = scan_check(&m, &next)?;
                 prop_assert!(
                     g.t > 1e-6 * m.scale || refs.iter().any(|r| (r.t - g.t).abs() < 1e-7 * m.scale),
                     "re-hit at t={} s={} (from s={})", g.t, g.u, h.u
@@ -912,41 +935,13 @@ prop_compose! {
         } else {
             pts
         };
-        if monotone && !is_ribbed {
-            let mut z: Vec<f64> = pts.iter().map(|p| p.0).collect();
-            z.sort_by(f64::total_cmp);
-            for (p, z) in pts.iter_mut().zip(z) {
-                p.0 = z;
-            }
-        }
-        if positive {
-            for p in &mut pts {
-                p.1 = p.1.abs();
-            }
-        }
+        sort_z_and_fold_r(&mut pts, monotone && !is_ribbed, positive);
         if repeat_end {
             pts[1] = pts[0];
         }
         let o1 = DVec3::new(o1.0, o1.1, o1.2);
         Model::new(o1, o1 + axis * len, &pts)
     }
-}
-
-/// Checks the hit's normal against the model where it is well defined.
-fn check_normal(m: &Model, ray: &Ray) -> Result<(), TestCaseError> {
-    let shape = m.shape();
-    if let Some(h) = shape.intersect(ray, 0.0, f64::INFINITY) {
-        let sp = shape.surface(ray, &h);
-        prop_assert!((sp.normal.length() - 1.0).abs() < 1e-12);
-        let (_, rho) = m.axial(sp.point);
-        let (dz, dr) = m.dzr(h.u);
-        if rho > 1e-6 * m.scale && dz.hypot(dr) > 1e-6 * m.scale {
-            let want = m.normal(h.u, sp.point);
-            prop_assert!(sp.normal.dot(want) > 1.0 - 1e-9, "{} vs {want}", sp.normal);
-        }
-        prop_assert_eq!(sp.uv.x, h.u);
-    }
-    Ok(())
 }
 
 proptest! {
@@ -958,8 +953,7 @@ proptest! {
     fn degree_20_and_30_profiles_match_scan_reference(
         (m, ray, _kind) in arb_case_from(arb_high_model(vec![20, 30]).boxed()),
     ) {
-        let refs = m.scan(&ray, 4000);
-        check(&m, &ray, 0.0, f64::INFINITY, &refs).map_err(TestCaseError::fail)?;
+        scan_check(&m, &ray)?;
         check_normal(&m, &ray)?;
     }
 }
@@ -975,14 +969,8 @@ proptest! {
         w0 in 0.0..1.0f64,
         w1 in 0.0..1.0f64,
     ) {
-        let target = ray.at((m.o1 - ray.origin).dot(ray.dir));
-        let far = Ray::new(target - ray.dir * m.scale * 10f64.powi(k), ray.dir);
-        let refs = m.scan(&far, 4000);
-        check(&m, &far, 0.0, f64::INFINITY, &refs).map_err(TestCaseError::fail)?;
-        let refs = m.scan(&ray, 4000);
-        let end = refs.iter().map(|h| h.t).fold(1.0, f64::max);
-        let (t_min, t_max) = (w0.min(w1) * end, w0.max(w1) * end * 1.1);
-        check(&m, &ray, t_min, t_max, &refs).map_err(TestCaseError::fail)?;
+        scan_check(&m, &far_ray(&m, &ray, k))?;
+        window_check(&m, &ray, w0, w1)?;
     }
 }
 
@@ -994,8 +982,7 @@ proptest! {
     fn degree_64_profiles_match_scan_reference(
         (m, ray, _kind) in arb_case_from(arb_high_model(vec![Bezier::MAX_DEGREE]).boxed()),
     ) {
-        let refs = m.scan(&ray, 4000);
-        check(&m, &ray, 0.0, f64::INFINITY, &refs).map_err(TestCaseError::fail)?;
+        scan_check(&m, &ray)?;
         check_normal(&m, &ray)?;
     }
 }

@@ -1,6 +1,9 @@
 //! The `glint` command as a user runs it: exit codes, diagnostics, files
 //! written or not, and the probe's answers against closed forms.
 
+mod common;
+
+use common::json_field;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
@@ -23,6 +26,13 @@ fn glint(args: &[&str], stdin: Option<&str>) -> Output {
             .unwrap();
     }
     child.wait_with_output().unwrap()
+}
+
+/// Runs `glint render SCENE -o OUT` followed by the `extra` arguments.
+fn render(scene: &str, out: &Path, extra: &[&str]) -> Output {
+    let mut args = vec!["render", scene, "-o", out.to_str().unwrap()];
+    args.extend_from_slice(extra);
+    glint(&args, None)
 }
 
 /// A fresh folder for one test.
@@ -60,28 +70,14 @@ fn render_writes_the_image_and_a_summary() {
     let dir = scratch("render");
     let scene = write(&dir, "small.txt", SMALL);
     let out = dir.join("small.bmp");
-    let o = glint(
-        &["render", &scene, "-o", out.to_str().unwrap(), "--spp", "1"],
-        None,
-    );
+    let o = render(&scene, &out, &["--spp", "1"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let img = image::open(&out).unwrap();
     assert_eq!((img.width(), img.height()), (32, 24));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("32x24") && err.contains("Mrays/s"), "{err}");
     // --width alone keeps the aspect; --quiet prints nothing.
-    let o = glint(
-        &[
-            "render",
-            &scene,
-            "-o",
-            out.to_str().unwrap(),
-            "--width",
-            "16",
-            "--quiet",
-        ],
-        None,
-    );
+    let o = render(&scene, &out, &["--width", "16", "--quiet"]);
     assert!(o.status.success());
     assert!(
         o.stderr.is_empty(),
@@ -108,7 +104,7 @@ fn a_broken_scene_exits_2_with_every_error_and_writes_nothing() {
     );
     let out = dir.join("broken.png");
     std::fs::write(&out, b"keep me").unwrap();
-    let o = glint(&["render", &scene, "-o", out.to_str().unwrap()], None);
+    let o = render(&scene, &out, &[]);
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
     // Each error with file:line:column; the misspelt type gets a suggestion.
@@ -158,16 +154,7 @@ fn bad_arguments_exit_2_and_write_nothing() {
     }
     assert!(!out.exists());
     // A folder that does not exist for the output: exit 2, nothing created.
-    let o = glint(
-        &[
-            "render",
-            &scene,
-            "-o",
-            dir.join("no/such/dir/x.png").to_str().unwrap(),
-            "--quiet",
-        ],
-        None,
-    );
+    let o = render(&scene, &dir.join("no/such/dir/x.png"), &["--quiet"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(!dir.join("no").exists());
 }
@@ -181,10 +168,7 @@ fn zero_spp_or_threads_exit_2_and_write_nothing() {
         ("--spp", "'--spp <SPP>'"),
         ("--threads", "'--threads <THREADS>'"),
     ] {
-        let o = glint(
-            &["render", &scene, "-o", out.to_str().unwrap(), flag, "0"],
-            None,
-        );
+        let o = render(&scene, &out, &[flag, "0"]);
         let err = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(2), "{flag} 0: {err}");
         assert!(
@@ -198,19 +182,7 @@ fn zero_spp_or_threads_exit_2_and_write_nothing() {
         assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "{flag} 0");
     }
     // 1 is the smallest value accepted.
-    let o = glint(
-        &[
-            "render",
-            &scene,
-            "-o",
-            out.to_str().unwrap(),
-            "--spp",
-            "1",
-            "--threads",
-            "1",
-        ],
-        None,
-    );
+    let o = render(&scene, &out, &["--spp", "1", "--threads", "1"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(out.exists());
 }
@@ -221,17 +193,7 @@ fn piped_stderr_gets_the_summary_line_but_no_progress_bar() {
     let scene = write(&dir, "s.txt", SMALL);
     let out = dir.join("s.png");
     // Large enough that a shown bar would be drawn; `glint` pipes stderr.
-    let o = glint(
-        &[
-            "render",
-            &scene,
-            "-o",
-            out.to_str().unwrap(),
-            "--width",
-            "640",
-        ],
-        None,
-    );
+    let o = render(&scene, &out, &["--width", "640"]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{err}");
     assert!(!err.contains('\r'), "a progress bar on a pipe: {err:?}");
@@ -245,10 +207,7 @@ fn piped_stderr_gets_the_summary_line_but_no_progress_bar() {
     assert!(out.exists());
     // --quiet: not even the summary line, and the image is still written.
     std::fs::remove_file(&out).unwrap();
-    let o = glint(
-        &["render", &scene, "-o", out.to_str().unwrap(), "--quiet"],
-        None,
-    );
+    let o = render(&scene, &out, &["--quiet"]);
     assert!(o.status.success());
     assert!(
         o.stderr.is_empty(),
@@ -256,22 +215,6 @@ fn piped_stderr_gets_the_summary_line_but_no_progress_bar() {
         String::from_utf8_lossy(&o.stderr)
     );
     assert!(out.exists());
-}
-
-/// Parses the probe's JSON line into (hit, t, point, normal, front, primitive).
-fn field<'a>(line: &'a str, key: &str) -> &'a str {
-    let start = line
-        .find(&format!("\"{key}\":"))
-        .unwrap_or_else(|| panic!("{key} in {line}"))
-        + key.len()
-        + 3;
-    let rest = &line[start..];
-    let end = if rest.starts_with('[') {
-        rest.find(']').unwrap() + 1
-    } else {
-        rest.find([',', '}']).unwrap()
-    };
-    &rest[..end]
 }
 
 fn vec3(s: &str) -> [f64; 3] {
@@ -330,16 +273,19 @@ primitive cube\n    O= 0 0 10\n    Dx= 1 0 0\n    Dy= 0 1 0\n    x= 1\n    y= 2\
         (19.0, [0.0, -19.0, 0.0], [0.0, 1.0, 0.0], true, "null"), // the sphere light's surface
     ];
     for (line, (t, p, n, front, prim)) in lines.iter().zip(want) {
-        assert_eq!(field(line, "hit"), "true", "{line}");
-        let got_t: f64 = field(line, "t").parse().unwrap();
+        assert_eq!(json_field(line, "hit"), "true", "{line}");
+        let got_t: f64 = json_field(line, "t").parse().unwrap();
         assert!((got_t - t).abs() <= 1e-9 * t, "{line}");
-        let (gp, gn) = (vec3(field(line, "point")), vec3(field(line, "normal")));
+        let (gp, gn) = (
+            vec3(json_field(line, "point")),
+            vec3(json_field(line, "normal")),
+        );
         for k in 0..3 {
             assert!((gp[k] - p[k]).abs() <= 1e-9 * (1.0 + p[k].abs()), "{line}");
             assert!((gn[k] - n[k]).abs() <= 1e-9, "{line}");
         }
-        assert_eq!(field(line, "front"), front.to_string(), "{line}");
-        assert_eq!(field(line, "primitive"), prim, "{line}");
+        assert_eq!(json_field(line, "front"), front.to_string(), "{line}");
+        assert_eq!(json_field(line, "primitive"), prim, "{line}");
     }
     assert_eq!(lines[9], "{\"hit\":false}");
 }

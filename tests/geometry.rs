@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{box_faces, dist_to_segment, rotation, solve_plane};
+use common::{box_faces, dist_to_segment, point_in, rotation, solve_plane};
 use glam::{DMat3, DVec2, DVec3};
 use glint::Scene;
 use glint::accel::Accel;
@@ -25,6 +25,11 @@ fn v(x: f64, y: f64, z: f64) -> DVec3 {
 
 fn ray(o: DVec3, d: DVec3) -> Ray {
     Ray::new(o, d.normalize())
+}
+
+/// +1 or −1 from one random `bool`.
+fn coin_sign(rng: &mut Pcg64) -> f64 {
+    if rng.random::<bool>() { 1.0 } else { -1.0 }
 }
 
 #[track_caller]
@@ -143,6 +148,23 @@ fn square_skewed_parallelogram() {
     );
 }
 
+/// Boxes (centre, rotation, half-lengths) to shoot at the edges of: unit, rotated and flat, rotated, tiny and far from the origin.
+fn edge_box_configs() -> [(DVec3, DMat3, DVec3); 3] {
+    [
+        (DVec3::ZERO, DMat3::IDENTITY, DVec3::ONE),
+        (
+            v(0.1, -0.3, 0.7),
+            rotation(v(0.3, -1.1, 2.0)),
+            v(0.3, 1.7, 0.05),
+        ),
+        (
+            v(1000.1, -999.7, 250.3),
+            rotation(v(-0.7, 0.2, 0.9)),
+            v(0.011, 0.013, 0.017),
+        ),
+    ]
+}
+
 /// Rays through edges, corners and points a hair from an edge of a closed
 /// box, all of which must hit: entering from outside (expected distance
 /// known) and leaving from inside. `hit` finds the nearest hit of the solid.
@@ -161,20 +183,16 @@ fn shoot_at_box_edges(
         // An edge along axis k, on the faces normal to axes i and j.
         let k = rng.random_range(0..3usize);
         let (i, j) = ((k + 1) % 3, (k + 2) % 3);
-        let (si, sj) = (
-            if rng.random::<bool>() { 1.0 } else { -1.0 },
-            if rng.random::<bool>() { 1.0 } else { -1.0 },
-        );
+        let (si, sj) = (coin_sign(&mut rng), coin_sign(&mut rng));
         let corner = n % 4 == 0;
         let lambda: f64 = if corner {
-            if rng.random::<bool>() { 1.0 } else { -1.0 }
+            coin_sign(&mut rng)
         } else if n % 4 == 1 {
             0.0
         } else {
             rng.random_range(-0.999..0.999)
         };
-        let mut target =
-            c + rot.col(i) * (h[i] * si) + rot.col(j) * (h[j] * sj) + rot.col(k) * (h[k] * lambda);
+        let mut target = common::box_edge_point(c, rot, h, (i, si), (j, sj), lambda);
         // Slide a hair onto face j (still on the closed box): 0 or 1e-16 .. 1e-10 of the size.
         if n % 3 == 2 {
             let eps = size * 10f64.powf(rng.random_range(-16.0..-10.0));
@@ -194,11 +212,7 @@ fn shoot_at_box_edges(
         let got = hit(&r).unwrap_or_else(|| panic!("crack: ray {r:?} entering at {target} missed"));
         assert_close(got.t, dist, 1e-9 * (scale + dist));
         // From inside towards the same point.
-        let l = DVec3::new(
-            rng.random_range(-0.99..0.99),
-            rng.random_range(-0.99..0.99),
-            rng.random_range(-0.99..0.99),
-        ) * h;
+        let l = point_in(&mut rng, 0.99) * h;
         let inside = c + rot * l;
         let r = Ray::new(inside, (target - inside).normalize());
         let got = hit(&r).unwrap_or_else(|| panic!("crack: ray {r:?} leaving at {target} missed"));
@@ -208,20 +222,7 @@ fn shoot_at_box_edges(
 
 #[test]
 fn six_squares_forming_a_cube_leave_no_crack() {
-    let configs = [
-        (DVec3::ZERO, DMat3::IDENTITY, DVec3::ONE),
-        (
-            v(0.1, -0.3, 0.7),
-            rotation(v(0.3, -1.1, 2.0)),
-            v(0.3, 1.7, 0.05),
-        ),
-        (
-            v(1000.1, -999.7, 250.3),
-            rotation(v(-0.7, 0.2, 0.9)),
-            v(0.011, 0.013, 0.017),
-        ),
-    ];
-    for (n, (c, rot, h)) in configs.into_iter().enumerate() {
+    for (n, (c, rot, h)) in edge_box_configs().into_iter().enumerate() {
         let squares: Vec<Square> = box_faces(c, rot, h)
             .into_iter()
             .map(|(o, dx, dy)| Square::new(o, dx, dy))
@@ -236,19 +237,12 @@ fn six_squares_forming_a_cube_leave_no_crack() {
 /// framework's kind (axis-aligned, decimal), rotated and flat, far from the
 /// origin and tiny, rotated and long, axis-aligned thin and far.
 fn square_box_configs() -> Vec<(DVec3, DMat3, DVec3)> {
+    let [unit, flat, tiny] = edge_box_configs();
     vec![
-        (DVec3::ZERO, DMat3::IDENTITY, DVec3::ONE),
+        unit,
         (v(1.5, 6.2, -0.3), DMat3::IDENTITY, v(0.5, 0.7, 0.9)),
-        (
-            v(0.1, -0.3, 0.7),
-            rotation(v(0.3, -1.1, 2.0)),
-            v(0.3, 1.7, 0.05),
-        ),
-        (
-            v(1000.1, -999.7, 250.3),
-            rotation(v(-0.7, 0.2, 0.9)),
-            v(0.011, 0.013, 0.017),
-        ),
+        flat,
+        tiny,
         (DVec3::ZERO, rotation(v(0.0, 0.0, 0.785)), v(10.0, 0.1, 0.1)),
         (v(-3.7, 0.25, 12.9), DMat3::IDENTITY, v(2.3, 0.01, 4.4)),
         (
@@ -265,8 +259,8 @@ fn square_box_configs() -> Vec<(DVec3, DMat3, DVec3)> {
 fn random_edge_point(rng: &mut Pcg64, c: DVec3, rot: DMat3, h: DVec3, m: usize) -> DVec3 {
     let i = rng.random_range(0..3usize);
     let j = (i + 1 + rng.random_range(0..2usize)) % 3;
-    let si = if rng.random::<bool>() { 1.0 } else { -1.0 };
-    let sj = if rng.random::<bool>() { 1.0 } else { -1.0 };
+    let si = coin_sign(rng);
+    let sj = coin_sign(rng);
     let lambda = match m % 4 {
         0 => si * sj,
         1 => 0.0,
@@ -303,20 +297,12 @@ fn six_square_box_scene_leaks_no_light_through_edges_or_corners() {
             let target = random_edge_point(&mut rng, c, rot, h, m);
             let interior = m % 2 == 0;
             let origin = if interior {
-                let l = DVec3::new(
-                    rng.random_range(-0.99..0.99),
-                    rng.random_range(-0.99..0.99),
-                    rng.random_range(-0.99..0.99),
-                );
+                let l = point_in(&mut rng, 0.99);
                 c + rot * (l * h)
             } else {
                 let fa = rng.random_range(0..3usize);
-                let fs = if rng.random::<bool>() { 1.0 } else { -1.0 };
-                let mut l = DVec3::new(
-                    rng.random_range(-1.0..1.0),
-                    rng.random_range(-1.0..1.0),
-                    rng.random_range(-1.0..1.0),
-                ) * h;
+                let fs = coin_sign(&mut rng);
+                let mut l = point_in(&mut rng, 1.0) * h;
                 l[fa] = fs * h[fa];
                 offset_origin(c + rot * l, -rot.col(fa) * fs)
             };
@@ -411,12 +397,7 @@ fn six_square_box_edge_hits_do_not_double_hit() {
                 first(&next).map(|x| x.0)
             );
             // From inside, leaving through the target, then straight on.
-            let inside = c + rot
-                * (DVec3::new(
-                    rng.random_range(-0.99..0.99),
-                    rng.random_range(-0.99..0.99),
-                    rng.random_range(-0.99..0.99),
-                ) * h);
+            let inside = c + rot * (point_in(&mut rng, 0.99) * h);
             let r = Ray::new(inside, (target - inside).normalize());
             let (t, point, side) = first(&r).unwrap_or_else(|| panic!("crack: {r:?}"));
             assert_close(t, (target - inside).length(), 1e-9 * scale);
@@ -704,20 +685,7 @@ fn cube_edge_corner_and_parallel_rays() {
 
 #[test]
 fn cube_edges_and_corners_leave_no_crack() {
-    let configs = [
-        (DVec3::ZERO, DMat3::IDENTITY, DVec3::ONE),
-        (
-            v(0.1, -0.3, 0.7),
-            rotation(v(0.3, -1.1, 2.0)),
-            v(0.3, 1.7, 0.05),
-        ),
-        (
-            v(1000.1, -999.7, 250.3),
-            rotation(v(-0.7, 0.2, 0.9)),
-            v(0.011, 0.013, 0.017),
-        ),
-    ];
-    for (n, (c, rot, h)) in configs.into_iter().enumerate() {
+    for (n, (c, rot, h)) in edge_box_configs().into_iter().enumerate() {
         let cube = Cube::new(c, rot.col(0), rot.col(1), h);
         shoot_at_box_edges(c, rot, h, 20 + n as u64, 10_000, |r| {
             cube.intersect(r, 0.0, INF)
@@ -945,6 +913,17 @@ const CYLINDERS: [([f64; 3], [f64; 3], f64); 4] = [
     ([-3.0, 2.0, 1.0], [5.0, -2.0, 7.0], 0.2),
 ];
 
+/// `got` when a hit is `wanted` (else a panic "`what` missed: ray"); when not, asserts there is none ("`what` hit: ray hit").
+#[track_caller]
+fn expect_hit(got: Option<Hit>, wanted: bool, what: impl Fn() -> String, r: &Ray) -> Option<Hit> {
+    if wanted {
+        Some(got.unwrap_or_else(|| panic!("{} missed: {r:?}", what())))
+    } else {
+        assert!(got.is_none(), "{} hit: {r:?} {got:?}", what());
+        None
+    }
+}
+
 /// Rays tangent to the side, and tangent to a rim circle, moved off
 /// tangency by k·1e-9 of the scene's scale: moved outwards they miss, moved
 /// inwards they hit at the closed-form distance, on the part (side or cap)
@@ -966,6 +945,16 @@ fn cylinder_rays_displaced_from_tangency() {
             let q = p - o1;
             (q - a * q.dot(a)).normalize()
         };
+        // Asserts the hit `h` on `r` is on the side `chord` short of `dist`, with the side normal there.
+        let assert_side_hit = |r: &Ray, h: &Hit, dist: f64, chord: f64, tol: f64| {
+            assert_close(h.t, dist - chord, tol);
+            let sp = cyl.surface(r, h);
+            assert_vclose(
+                sp.normal,
+                side_normal(r.at(dist - chord)),
+                tol / radius + 1e-12,
+            );
+        };
         for n in 0..400 {
             let phi = rng.random_range(0.0..TAU);
             // Radial direction of the tangent point, and the circle's tangent there.
@@ -981,6 +970,7 @@ fn cylinder_rays_displaced_from_tangency() {
                 for inward in [false, true] {
                     // Distance of the ray from the axis at the tangent point.
                     let rho = if inward { radius - s } else { radius + s };
+                    let moved = if inward { "in" } else { "out" };
                     // sqrt(R² − ρ²) for ρ < R, without cancellation.
                     let half_chord = (s * (2.0 * radius - s)).sqrt();
 
@@ -999,20 +989,10 @@ fn cylinder_rays_displaced_from_tangency() {
                         let p = o1 + a * z + u * rho;
                         let r = Ray::new(p - d * dist, d);
                         let got = cyl.intersect(&r, 0.0, INF);
-                        if inward {
-                            let h = got.unwrap_or_else(|| {
-                                panic!("side tangent moved in by {s:e} missed: {r:?}")
-                            });
-                            assert_close(h.t, dist - chord, tol);
-                            let sp = cyl.surface(&r, &h);
-                            let want = side_normal(r.at(dist - chord));
-                            assert_vclose(sp.normal, want, tol / radius + 1e-12);
+                        let what = || format!("side tangent moved {moved} by {s:e}");
+                        if let Some(h) = expect_hit(got, inward, what, &r) {
+                            assert_side_hit(&r, &h, dist, chord, tol);
                             hits += 1;
-                        } else {
-                            assert!(
-                                got.is_none(),
-                                "side tangent moved out by {s:e} hit: {r:?} {got:?}"
-                            );
                         }
                     }
 
@@ -1027,29 +1007,15 @@ fn cylinder_rays_displaced_from_tangency() {
                     let p = cap + u * rho;
                     let r = Ray::new(p - d * dist, d);
                     let got = cyl.intersect(&r, 0.0, INF);
-                    if inward {
-                        let h = got.unwrap_or_else(|| {
-                            panic!("rim tangent moved in by {s:e} missed: {r:?}")
-                        });
-                        let sp = cyl.surface(&r, &h);
+                    let what = || format!("rim tangent moved {moved} by {s:e}");
+                    if let Some(h) = expect_hit(got, inward, what, &r) {
                         if beta > 0.0 {
                             assert_close(h.t, dist, tol);
-                            assert_vclose(sp.normal, out, 1e-12);
+                            assert_vclose(cyl.surface(&r, &h).normal, out, 1e-12);
                         } else {
-                            let chord = half_chord / beta.cos();
-                            assert_close(h.t, dist - chord, tol);
-                            assert_vclose(
-                                sp.normal,
-                                side_normal(r.at(dist - chord)),
-                                tol / radius + 1e-12,
-                            );
+                            assert_side_hit(&r, &h, dist, half_chord / beta.cos(), tol);
                         }
                         hits += 1;
-                    } else {
-                        assert!(
-                            got.is_none(),
-                            "rim tangent moved out by {s:e} hit: {r:?} {got:?}"
-                        );
                     }
 
                     // 3. In a plane perpendicular to the axis, tangent to a rim
@@ -1060,23 +1026,18 @@ fn cylinder_rays_displaced_from_tangency() {
                         let p = cap + u * rho + out * if below { -s } else { s };
                         let r = Ray::new(p - w * dist, w);
                         let got = cyl.intersect(&r, 0.0, INF);
-                        if inward && below {
-                            let h = got.unwrap_or_else(|| {
-                                panic!("rim tangent moved in and below by {s:e} missed: {r:?}")
-                            });
-                            assert_close(h.t, dist - half_chord, tol);
-                            let sp = cyl.surface(&r, &h);
-                            assert_vclose(
-                                sp.normal,
-                                side_normal(r.at(dist - half_chord)),
-                                tol / radius + 1e-12,
-                            );
+                        let what = || {
+                            if inward && below {
+                                format!("rim tangent moved in and below by {s:e}")
+                            } else {
+                                format!(
+                                    "rim tangent moved off by {s:e} (inward {inward}, below {below})"
+                                )
+                            }
+                        };
+                        if let Some(h) = expect_hit(got, inward && below, what, &r) {
+                            assert_side_hit(&r, &h, dist, half_chord, tol);
                             hits += 1;
-                        } else {
-                            assert!(
-                                got.is_none(),
-                                "rim tangent moved off by {s:e} (inward {inward}, below {below}) hit: {r:?} {got:?}"
-                            );
                         }
                     }
                 }
@@ -1428,12 +1389,7 @@ fn shoot_at_mesh_edges(
             1 => (p + q) * 0.5,
             _ => p + (q - p) * rng.random_range(0.0..1.0),
         };
-        let inside = center
-            + DVec3::new(
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-            ) * (inner / 3f64.sqrt());
+        let inside = center + point_in(&mut rng, 1.0) * (inner / 3f64.sqrt());
         let r = Ray::new(inside, (target - inside).normalize());
         let (_, h) = nearest(&tris, &r, |t, r, a, b| t.intersect(r, a, b))
             .unwrap_or_else(|| panic!("crack: ray {r:?} from inside at {target} missed"));
@@ -1711,10 +1667,7 @@ fn cube_edges_and_cylinder_rims_do_not_double_hit() {
         for m in 0..2000 {
             let i = rng.random_range(0..3usize);
             let j = (i + 1 + rng.random_range(0..2usize)) % 3;
-            let (si, sj) = (
-                if rng.random::<bool>() { 1.0 } else { -1.0 },
-                if rng.random::<bool>() { 1.0 } else { -1.0 },
-            );
+            let (si, sj) = (coin_sign(&mut rng), coin_sign(&mut rng));
             let lambda = if m % 4 == 0 {
                 si * sj
             } else {

@@ -59,8 +59,40 @@ fn blocker_at(h: f64, angle: f64, c: f64) -> String {
 
 /// Whether a ray from the origin along `d` passes the blocker of [`blocker`].
 fn passes(d: DVec3, angle: f64, c: f64) -> bool {
-    let p = d * (5.0 / d.z);
+    passes_at(d, 5.0, angle, c)
+}
+
+/// [`passes`] for the blocker of [`blocker_at`] at the height `h`.
+fn passes_at(d: DVec3, h: f64, angle: f64, c: f64) -> bool {
+    let p = d * (h / d.z);
     p.x * angle.cos() + p.y * angle.sin() >= c
+}
+
+/// The fraction of an `n` × `n` midpoint grid over [−1, 1]² where `pass(a, b)` holds.
+fn square_grid_fraction(n: usize, pass: impl Fn(f64, f64) -> bool) -> f64 {
+    let mut visible = 0u64;
+    for i in 0..n {
+        for j in 0..n {
+            let a = 2.0 * (i as f64 + 0.5) / n as f64 - 1.0;
+            let b = 2.0 * (j as f64 + 0.5) / n as f64 - 1.0;
+            visible += pass(a, b) as u64;
+        }
+    }
+    visible as f64 / (n * n) as f64
+}
+
+/// The fraction of an `n` × `n` midpoint grid over a cone (cos θ from 1 to `cos_max`, φ over 2π) where `pass(cos θ, sin θ, φ)` holds.
+fn cone_grid_fraction(n: usize, cos_max: f64, pass: impl Fn(f64, f64, f64) -> bool) -> f64 {
+    let mut visible = 0u64;
+    for i in 0..n {
+        let cos_t = 1.0 - (i as f64 + 0.5) / n as f64 * (1.0 - cos_max);
+        let sin_t = (1.0 - cos_t * cos_t).sqrt();
+        for j in 0..n {
+            let phi = std::f64::consts::TAU * (j as f64 + 0.5) / n as f64;
+            visible += pass(cos_t, sin_t, phi) as u64;
+        }
+    }
+    visible as f64 / (n * n) as f64
 }
 
 fn check(s: &Scene, exact: f64, samples: u32) {
@@ -95,16 +127,7 @@ fn square_light_penumbra_converges_to_the_visible_area() {
         ));
         // Exact: the fraction of the light's area whose segment to the origin
         // passes the blocker, by a 1000 × 1000 midpoint quadrature.
-        let n = 1000;
-        let mut visible = 0u64;
-        for i in 0..n {
-            for j in 0..n {
-                let a = 2.0 * (i as f64 + 0.5) / n as f64 - 1.0;
-                let b = 2.0 * (j as f64 + 0.5) / n as f64 - 1.0;
-                visible += passes(DVec3::new(a, b, 10.0), angle, c) as u64;
-            }
-        }
-        let exact = visible as f64 / (n * n) as f64;
+        let exact = square_grid_fraction(1000, |a, b| passes(DVec3::new(a, b, 10.0), angle, c));
         assert!(exact > 0.1 && exact < 0.9, "a real penumbra: {exact}");
         check(&s, exact, 16);
     }
@@ -120,18 +143,10 @@ fn sphere_light_penumbra_converges_to_the_visible_solid_angle() {
         // Exact: the fraction, by solid angle, of the cone the sphere subtends
         // whose directions pass the blocker (uniform in cos θ and φ).
         let cos_max = (1.0f64 - 4.0 / 100.0).sqrt();
-        let n = 1000;
-        let mut visible = 0u64;
-        for i in 0..n {
-            let cos_t = 1.0 - (i as f64 + 0.5) / n as f64 * (1.0 - cos_max);
-            let sin_t = (1.0 - cos_t * cos_t).sqrt();
-            for j in 0..n {
-                let phi = std::f64::consts::TAU * (j as f64 + 0.5) / n as f64;
-                let d = DVec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t);
-                visible += passes(d, angle, c) as u64;
-            }
-        }
-        let exact = visible as f64 / (n * n) as f64;
+        let exact = cone_grid_fraction(1000, cos_max, |cos_t, sin_t, phi| {
+            let d = DVec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t);
+            passes(d, angle, c)
+        });
         assert!(exact > 0.1 && exact < 0.9, "a real penumbra: {exact}");
         check(&s, exact, 16);
         check(&s, exact, 64);
@@ -302,16 +317,9 @@ fn oblique_square_light_penumbra_converges_to_the_visible_area() {
     );
     let exact = ob.exact(DVec3::ZERO);
     // The clipping formula against a direct 1000 × 1000 midpoint quadrature.
-    let n = 1000;
-    let mut visible = 0u64;
-    for i in 0..n {
-        for j in 0..n {
-            let a = 2.0 * (i as f64 + 0.5) / n as f64 - 1.0;
-            let b = 2.0 * (j as f64 + 0.5) / n as f64 - 1.0;
-            visible += passes(ob.o + ob.dx * a + ob.dy * b, ob.angle, ob.c) as u64;
-        }
-    }
-    let quadrature = visible as f64 / (n * n) as f64;
+    let quadrature = square_grid_fraction(1000, |a, b| {
+        passes(ob.o + ob.dx * a + ob.dy * b, ob.angle, ob.c)
+    });
     assert!((exact - quadrature).abs() < 2e-3, "{exact} vs {quadrature}");
     assert!(exact > 0.2 && exact < 0.8, "a real penumbra: {exact}");
     let s = ob.scene();
@@ -351,19 +359,10 @@ fn sphere_light_close_up_converges_to_the_visible_solid_angle() {
         let u = to.cross(DVec3::X).normalize();
         let v = to.cross(u);
         let cos_max = (1.0 - radius * radius / centre.length_squared()).sqrt();
-        let n = 1000;
-        let mut visible = 0u64;
-        for i in 0..n {
-            let cos_t = 1.0 - (i as f64 + 0.5) / n as f64 * (1.0 - cos_max);
-            let sin_t = (1.0 - cos_t * cos_t).sqrt();
-            for j in 0..n {
-                let phi = std::f64::consts::TAU * (j as f64 + 0.5) / n as f64;
-                let d = to * cos_t + (u * phi.cos() + v * phi.sin()) * sin_t;
-                let x = d * (h / d.z);
-                visible += (x.x * angle.cos() + x.y * angle.sin() >= c) as u64;
-            }
-        }
-        let quadrature = visible as f64 / (n * n) as f64;
+        let quadrature = cone_grid_fraction(1000, cos_max, |cos_t, sin_t, phi| {
+            let d = to * cos_t + (u * phi.cos() + v * phi.sin()) * sin_t;
+            passes_at(d, h, angle, c)
+        });
         assert!((exact - quadrature).abs() < 2e-3, "{exact} vs {quadrature}");
         assert!(exact > 0.2 && exact < 0.8, "a real penumbra: {exact}");
         let s = sphere_scene(centre, h, angle, c);

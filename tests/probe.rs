@@ -10,7 +10,9 @@
 mod common;
 
 use common::bezier::Model;
-use common::{rotation, scene_vec, solve_plane};
+use common::{
+    half_sizes, json_field, log_size, point_in, random_sign, rotation, scene_vec, solve_plane,
+};
 use glam::DVec3;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
@@ -33,23 +35,6 @@ struct Answer {
     uv: (f64, f64),
 }
 
-/// The value of `"key":` in a one-line JSON object of the probe's shape
-/// (numbers, booleans, null, flat arrays).
-fn field<'a>(line: &'a str, key: &str) -> &'a str {
-    let k = format!("\"{key}\":");
-    let i = line
-        .find(&k)
-        .unwrap_or_else(|| panic!("no {key} in {line}"))
-        + k.len();
-    let rest = &line[i..];
-    let end = if rest.starts_with('[') {
-        rest.find(']').unwrap() + 1
-    } else {
-        rest.find([',', '}']).unwrap()
-    };
-    &rest[..end]
-}
-
 fn number(s: &str) -> f64 {
     s.parse()
         .unwrap_or_else(|_| panic!("`{s}` is not a JSON number"))
@@ -67,26 +52,26 @@ fn vector(s: &str) -> DVec3 {
 
 fn parse_answer(line: &str) -> Option<Answer> {
     assert!(line.starts_with('{') && line.ends_with('}'), "{line}");
-    match field(line, "hit") {
+    match json_field(line, "hit") {
         "false" => {
             assert_eq!(line, "{\"hit\":false}");
             None
         }
         "true" => Some(Answer {
-            t: number(field(line, "t")),
-            point: vector(field(line, "point")),
-            normal: vector(field(line, "normal")),
-            front: match field(line, "front") {
+            t: number(json_field(line, "t")),
+            point: vector(json_field(line, "point")),
+            normal: vector(json_field(line, "normal")),
+            front: match json_field(line, "front") {
                 "true" => true,
                 "false" => false,
                 f => panic!("front {f}"),
             },
-            primitive: match field(line, "primitive") {
+            primitive: match json_field(line, "primitive") {
                 "null" => None,
                 p => Some(p.parse().unwrap()),
             },
             uv: {
-                let inner = field(line, "uv");
+                let inner = json_field(line, "uv");
                 let v: Vec<f64> = inner[1..inner.len() - 1].split(',').map(number).collect();
                 assert_eq!(v.len(), 2, "{line}");
                 (v[0], v[1])
@@ -215,21 +200,34 @@ fn compare_warned(
                     context()
                 );
                 if let Some(n) = n {
-                    let front = n.dot(d) < 0.0;
-                    let facing = if front { n } else { -n };
-                    assert!(
-                        (a.normal - facing).length() <= 1e-6,
-                        "normal {} vs {facing}; {}",
-                        a.normal,
-                        context()
-                    );
-                    assert_eq!(a.front, front, "front; {}", context());
+                    assert_facing_normal(&a, n, d, &context);
                     tally.normals += 1;
                 }
                 tally.hits += 1;
             }
         }
     }
+}
+
+/// Asserts the probe's normal is the outward `n` turned against `d` (to 1e-6) and `front` says which side it hit.
+fn assert_facing_normal(a: &Answer, n: DVec3, d: DVec3, context: &dyn Fn() -> String) {
+    let front = n.dot(d) < 0.0;
+    let facing = if front { n } else { -n };
+    assert!(
+        (a.normal - facing).length() <= 1e-6,
+        "normal {} vs {facing}; {}",
+        a.normal,
+        context()
+    );
+    assert_eq!(a.front, front, "front; {}", context());
+}
+
+/// The rays `case(k)` makes for k in 0..`count`, and their references.
+fn cases(
+    count: usize,
+    case: impl FnMut(usize) -> ((DVec3, DVec3), Expect),
+) -> (Vec<(DVec3, DVec3)>, Vec<Expect>) {
+    (0..count).map(case).unzip()
 }
 
 // ---------------------------------------------------------------- random helpers
@@ -248,19 +246,6 @@ fn unit(rng: &mut Pcg64) -> DVec3 {
     }
 }
 
-fn point(rng: &mut Pcg64, half: f64) -> DVec3 {
-    DVec3::new(
-        rng.random_range(-half..half),
-        rng.random_range(-half..half),
-        rng.random_range(-half..half),
-    )
-}
-
-/// A log-uniform size in [lo, hi].
-fn size(rng: &mut Pcg64, lo: f64, hi: f64) -> f64 {
-    rng.random_range(lo.ln()..hi.ln()).exp()
-}
-
 /// A unit vector perpendicular to unit `d`.
 fn perpendicular(rng: &mut Pcg64, d: DVec3) -> DVec3 {
     loop {
@@ -274,9 +259,9 @@ fn perpendicular(rng: &mut Pcg64, d: DVec3) -> DVec3 {
 /// A centre for a scene: mostly near the origin, some far from it.
 fn center(rng: &mut Pcg64, n: usize) -> DVec3 {
     if n % 5 == 4 {
-        point(rng, 5.0) + DVec3::new(300.0, -200.0, 100.0)
+        point_in(rng, 5.0) + DVec3::new(300.0, -200.0, 100.0)
     } else {
-        point(rng, 5.0)
+        point_in(rng, 5.0)
     }
 }
 
@@ -301,14 +286,13 @@ fn probe_spheres_match_closed_form() {
     let mut tally = Tally::default();
     for n in 0..12 {
         let c = center(&mut rng, n);
-        let r = size(&mut rng, 0.05, 5.0);
+        let r = log_size(&mut rng, 0.05, 5.0);
         let scene = format!(
             "primitive sphere\n    O= {}\n    R= {r:?}\nend\n",
             scene_vec(c)
         );
         let scale = c.abs().max_element() + r;
-        let (mut rays, mut expected) = (Vec::new(), Vec::new());
-        for k in 0..60 {
+        let (rays, expected) = cases(60, |k| {
             let (o, d) = match k % 5 {
                 // From outside, aimed at a point within 1.2 R of the centre.
                 0 | 1 => {
@@ -342,9 +326,8 @@ fn probe_spheres_match_closed_form() {
                 Some(t) => Expect::Hit(t, Some((o + d * t - c) / r)),
                 None => Expect::Miss,
             };
-            rays.push((o, d));
-            expected.push(e);
-        }
+            ((o, d), e)
+        });
         compare("sphere", &scene, &rays, &expected, scale, &mut tally);
     }
     assert!(
@@ -374,15 +357,14 @@ fn probe_planes_match_closed_form() {
         );
         let nn = big_n.normalize();
         let scale = 10.0;
-        let (mut rays, mut expected) = (Vec::new(), Vec::new());
-        for k in 0..50 {
-            let o = point(&mut rng, 10.0);
+        let (rays, expected) = cases(50, |k| {
+            let o = point_in(&mut rng, 10.0);
             let d = match k % 4 {
                 0 | 1 => unit(&mut rng),
                 // Grazing: n·d = ±10^-j.
                 2 => {
                     let j = rng.random_range(1..9);
-                    let s = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+                    let s = random_sign(&mut rng);
                     let p = perpendicular(&mut rng, nn);
                     (p + nn * (s * 10f64.powi(-j))).normalize()
                 }
@@ -408,9 +390,8 @@ fn probe_planes_match_closed_form() {
                     Expect::Miss
                 }
             };
-            rays.push((o, d));
-            expected.push(e);
-        }
+            ((o, d), e)
+        });
         compare("plane", &scene, &rays, &expected, scale, &mut tally);
     }
     assert!(tally.hits > 200 && tally.misses > 150, "{tally:?}");
@@ -448,6 +429,20 @@ fn flat_reference(
     }
 }
 
+/// A ray at `target` on a flat shape (unit normal `nn`, size `extent`): grazing when `k` % 4 == 3, else from around it.
+fn flat_ray(rng: &mut Pcg64, k: usize, target: DVec3, nn: DVec3, extent: f64) -> (DVec3, DVec3) {
+    if k % 4 == 3 {
+        // Grazing: nearly in the plane.
+        let p = perpendicular(rng, nn);
+        let j = rng.random_range(1..7);
+        let d = (p + nn * (10f64.powi(-j) * if k % 8 == 3 { 1.0 } else { -1.0 })).normalize();
+        (target - d * extent * rng.random_range(0.5..5.0), d)
+    } else {
+        let o = target + unit(rng) * extent * rng.random_range(0.2..5.0);
+        (o, (target - o).normalize())
+    }
+}
+
 #[test]
 fn probe_squares_match_cramer_reference() {
     let mut rng = Pcg64::seed_from_u64(63);
@@ -455,8 +450,8 @@ fn probe_squares_match_cramer_reference() {
     for n in 0..12 {
         let c = center(&mut rng, n);
         let (dx, dy) = loop {
-            let dx = unit(&mut rng) * size(&mut rng, 0.1, 3.0);
-            let dy = unit(&mut rng) * size(&mut rng, 0.1, 3.0);
+            let dx = unit(&mut rng) * log_size(&mut rng, 0.1, 3.0);
+            let dy = unit(&mut rng) * log_size(&mut rng, 0.1, 3.0);
             if dx.cross(dy).length() > 0.1 * dx.length() * dy.length() {
                 break (dx, dy);
             }
@@ -470,23 +465,12 @@ fn probe_squares_match_cramer_reference() {
         let nn = dx.cross(dy).normalize();
         let extent = dx.length() + dy.length();
         let scale = c.abs().max_element() + extent;
-        let (mut rays, mut expected) = (Vec::new(), Vec::new());
-        for k in 0..50 {
+        let (rays, expected) = cases(50, |k| {
             let target = c
                 + dx * rng.random_range(-1.3..1.3)
                 + dy * rng.random_range(-1.3..1.3)
                 + nn * (extent * rng.random_range(-0.1..0.1));
-            let (o, d) = if k % 4 == 3 {
-                // Grazing: nearly in the plane.
-                let p = perpendicular(&mut rng, nn);
-                let j = rng.random_range(1..7);
-                let d =
-                    (p + nn * (10f64.powi(-j) * if k % 8 == 3 { 1.0 } else { -1.0 })).normalize();
-                (target - d * extent * rng.random_range(0.5..5.0), d)
-            } else {
-                let o = target + unit(&mut rng) * extent * rng.random_range(0.2..5.0);
-                (o, (target - o).normalize())
-            };
+            let (o, d) = flat_ray(&mut rng, k, target, nn, extent);
             // Corner c − Dx − Dy, edges 2·Dx and 2·Dy: inside for β, γ in [0, 1].
             let e = flat_reference(
                 o,
@@ -497,9 +481,8 @@ fn probe_squares_match_cramer_reference() {
                 |be, ga| be.min(ga).min(1.0 - be).min(1.0 - ga),
                 scale,
             );
-            rays.push((o, d));
-            expected.push(e);
-        }
+            ((o, d), e)
+        });
         compare("square", &scene, &rays, &expected, scale, &mut tally);
     }
     assert!(tally.hits > 200 && tally.misses > 100, "{tally:?}");
@@ -511,7 +494,7 @@ fn probe_triangles_match_cramer_reference() {
     let mut tally = Tally::default();
     for n in 0..12 {
         let c = center(&mut rng, n);
-        let s = size(&mut rng, 0.1, 3.0);
+        let s = log_size(&mut rng, 0.1, 3.0);
         let (a, b, cc) = loop {
             let (a, b, cc) = (
                 c + unit(&mut rng) * s,
@@ -531,8 +514,7 @@ fn probe_triangles_match_cramer_reference() {
         );
         let nn = (b - a).cross(cc - a).normalize();
         let scale = c.abs().max_element() + s;
-        let (mut rays, mut expected) = (Vec::new(), Vec::new());
-        for k in 0..50 {
+        let (rays, expected) = cases(50, |k| {
             let w = [
                 rng.random_range(-0.2..1.0),
                 rng.random_range(-0.2..1.0),
@@ -541,16 +523,7 @@ fn probe_triangles_match_cramer_reference() {
             let sum = w[0] + w[1] + w[2];
             let target =
                 (a * w[0] + b * w[1] + cc * w[2]) / sum + nn * (s * rng.random_range(-0.1..0.1));
-            let (o, d) = if k % 4 == 3 {
-                let p = perpendicular(&mut rng, nn);
-                let j = rng.random_range(1..7);
-                let d =
-                    (p + nn * (10f64.powi(-j) * if k % 8 == 3 { 1.0 } else { -1.0 })).normalize();
-                (target - d * s * rng.random_range(0.5..5.0), d)
-            } else {
-                let o = target + unit(&mut rng) * s * rng.random_range(0.2..5.0);
-                (o, (target - o).normalize())
-            };
+            let (o, d) = flat_ray(&mut rng, k, target, nn, s);
             let e = flat_reference(
                 o,
                 d,
@@ -560,9 +533,8 @@ fn probe_triangles_match_cramer_reference() {
                 |be, ga| be.min(ga).min(1.0 - be - ga),
                 scale,
             );
-            rays.push((o, d));
-            expected.push(e);
-        }
+            ((o, d), e)
+        });
         compare("triangle", &scene, &rays, &expected, scale, &mut tally);
     }
     assert!(tally.hits > 150 && tally.misses > 100, "{tally:?}");
@@ -614,12 +586,8 @@ fn probe_cubes_match_face_enumeration() {
     let mut tally = Tally::default();
     for n in 0..12 {
         let c = center(&mut rng, n);
-        let rot = rotation(point(&mut rng, 3.2));
-        let h = DVec3::new(
-            size(&mut rng, 0.05, 3.0),
-            size(&mut rng, 0.05, 3.0),
-            size(&mut rng, 0.05, 3.0),
-        );
+        let rot = rotation(point_in(&mut rng, 3.2));
+        let h = half_sizes(&mut rng, 0.05, 3.0);
         // The file's Dx, Dy: unit and perpendicular (no warning), or on one
         // scene in three scaled and skewed, which glint must orthonormalise
         // keeping Dx's direction (with a warning, allowed there).
@@ -642,38 +610,35 @@ fn probe_cubes_match_face_enumeration() {
         );
         let scale = c.abs().max_element() + h.length();
         let local = |v: DVec3| axes[0] * v.x + axes[1] * v.y + axes[2] * v.z;
-        let (mut rays, mut expected) = (Vec::new(), Vec::new());
-        for k in 0..50 {
-            let aim = c + local(point(&mut rng, 1.2) * h);
+        let (rays, expected) = cases(50, |k| {
+            let aim = c + local(point_in(&mut rng, 1.2) * h);
             let (o, d) = match k % 5 {
                 0 | 1 => {
                     let o = c + unit(&mut rng) * h.length() * rng.random_range(1.2..6.0);
                     (o, (aim - o).normalize())
                 }
                 // From inside.
-                2 => (c + local(point(&mut rng, 0.98) * h), unit(&mut rng)),
+                2 => (c + local(point_in(&mut rng, 0.98) * h), unit(&mut rng)),
                 // Exactly along a box axis (parallel to four faces).
                 3 => {
                     let i = rng.random_range(0..3usize);
-                    let s = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+                    let s = random_sign(&mut rng);
                     (aim - axes[i] * (s * h.length() * 3.0), axes[i] * s)
                 }
                 // Along a face, moved off its plane in or out.
                 _ => {
                     let i = rng.random_range(0..3usize);
-                    let s = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
-                    let g = GRAZE[rng.random_range(0..3usize)]
-                        * if rng.random_bool(0.5) { 1.0 } else { -1.0 };
-                    let mut l = point(&mut rng, 0.9) * h;
+                    let s = random_sign(&mut rng);
+                    let g = GRAZE[rng.random_range(0..3usize)] * random_sign(&mut rng);
+                    let mut l = point_in(&mut rng, 0.9) * h;
                     l[i] = s * h[i] * (1.0 + g);
                     let d = perpendicular(&mut rng, axes[i]);
                     let p = c + local(l);
                     (p - d * h.length() * rng.random_range(1.5..4.0), d)
                 }
             };
-            rays.push((o, d));
-            expected.push(box_reference(c, axes, h, o, d, scale));
-        }
+            ((o, d), box_reference(c, axes, h, o, d, scale))
+        });
         compare_warned(
             "cube",
             &scene,
@@ -756,8 +721,8 @@ fn probe_cylinders_match_candidate_enumeration() {
         } else {
             unit(&mut rng)
         };
-        let o2 = o1 + axis * size(&mut rng, 0.1, 5.0);
-        let r = size(&mut rng, 0.05, 2.0);
+        let o2 = o1 + axis * log_size(&mut rng, 0.1, 5.0);
+        let r = log_size(&mut rng, 0.05, 2.0);
         let scene = format!(
             "primitive cylinder\n    O1= {}\n    O2= {}\n    R= {r:?}\nend\n",
             scene_vec(o1),
@@ -767,8 +732,7 @@ fn probe_cylinders_match_candidate_enumeration() {
         let a = (o2 - o1).normalize();
         let scale = o1.abs().max_element() + len + r;
         let size_ = len + r;
-        let (mut rays, mut expected) = (Vec::new(), Vec::new());
-        for k in 0..60 {
+        let (rays, expected) = cases(60, |k| {
             let u = perpendicular(&mut rng, a);
             let w = a.cross(u);
             let g = GRAZE[rng.random_range(0..3usize)];
@@ -796,7 +760,7 @@ fn probe_cylinders_match_candidate_enumeration() {
                 // from the axis or from R·(1 ± g), before, between or beyond the caps.
                 2 => {
                     let rho = if rng.random_bool(0.3) { 0.0 } else { r * moved };
-                    let s = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+                    let s = random_sign(&mut rng);
                     (
                         o1 + a * (len * rng.random_range(-2.0..3.0)) + u * rho,
                         a * s,
@@ -825,16 +789,14 @@ fn probe_cylinders_match_candidate_enumeration() {
                     } else {
                         (o1, -a)
                     };
-                    let beta: f64 =
-                        rng.random_range(0.15..1.3) * if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+                    let beta: f64 = rng.random_range(0.15..1.3) * random_sign(&mut rng);
                     let d = (w * beta.cos() - out * beta.sin()).normalize();
                     let p = cap + u * (r * moved);
                     (p - d * size_ * rng.random_range(1.0..5.0), d)
                 }
             };
-            rays.push((o, d));
-            expected.push(cylinder_reference(o1, o2, r, o, d, scale));
-        }
+            ((o, d), cylinder_reference(o1, o2, r, o, d, scale))
+        });
         compare("cylinder", &scene, &rays, &expected, scale, &mut tally);
     }
     assert!(
@@ -973,16 +935,7 @@ fn probe_bezier_surfaces_match_scan_reference() {
                     let p = o + d * c.t;
                     let (dz, dr) = m.dzr(c.s);
                     if m.axial(p).1 > 1e-6 * m.scale && dz.hypot(dr) > 1e-6 * m.scale {
-                        let n = m.normal(c.s, p);
-                        let front = n.dot(d) < 0.0;
-                        let facing = if front { n } else { -n };
-                        assert!(
-                            (a.normal - facing).length() <= 1e-6,
-                            "normal {} vs {facing}; {}",
-                            a.normal,
-                            context()
-                        );
-                        assert_eq!(a.front, front, "front; {}", context());
+                        assert_facing_normal(&a, m.normal(c.s, p), d, &context);
                         normals += 1;
                     }
                     hits += 1;
@@ -1033,8 +986,8 @@ fn probe_box_of_squares_from_inside_through_edges_and_corners() {
         for m in 0..400 {
             let i = rng.random_range(0..3usize);
             let j = (i + 1 + rng.random_range(0..2usize)) % 3;
-            let si = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
-            let sj = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+            let si = random_sign(&mut rng);
+            let sj = random_sign(&mut rng);
             let lambda = if m % 3 == 0 {
                 si * sj
             } else {
@@ -1045,7 +998,7 @@ fn probe_box_of_squares_from_inside_through_edges_and_corners() {
                 target -= rot.col(i)
                     * (si * h.max_element() * 10f64.powf(rng.random_range(-16.0..-10.0)));
             }
-            let inside = c + rot * (point(&mut rng, 0.99) * h);
+            let inside = c + rot * (point_in(&mut rng, 0.99) * h);
             rays.push((inside, (target - inside).normalize()));
             dists.push((target - inside).length());
         }

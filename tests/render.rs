@@ -2,7 +2,7 @@
 
 use glam::DVec3;
 use glint::geometry::Ray;
-use glint::{RenderOptions, Scene, render};
+use glint::{Image, RenderOptions, Scene, render};
 
 fn scene(text: &str) -> Scene {
     Scene::parse(text, ".").unwrap_or_else(|e| panic!("{e}"))
@@ -11,6 +11,26 @@ fn scene(text: &str) -> Scene {
 /// The framework's output byte for a linear value.
 fn byte(c: f64) -> u8 {
     (255.0 * c.clamp(0.0, 1.0)).floor() as u8
+}
+
+/// Renders `s` with one sample per pixel (through the pixel centres).
+fn render_one_spp(s: &Scene) -> Image {
+    render(
+        s,
+        &RenderOptions {
+            spp: Some(1),
+            ..RenderOptions::default()
+        },
+    )
+}
+
+/// How many distinct 8-bit colours the image holds.
+fn distinct_colours(img: &Image) -> usize {
+    let bytes = img.to_rgb8();
+    let mut colours: Vec<&[u8]> = bytes.chunks(3).collect();
+    colours.sort();
+    colours.dedup();
+    colours.len()
 }
 
 /// Centre pixel of a diffuse + specular sphere under a point light, by hand:
@@ -37,13 +57,7 @@ fn diffuse_sphere_centre_pixel_matches_hand_computation() {
             spec= 0.3
          end",
     );
-    let img = render(
-        &s,
-        &RenderOptions {
-            spp: Some(1),
-            ..RenderOptions::default()
-        },
-    );
+    let img = render_one_spp(&s);
     // L = unit((0,0,5) − (0,4,0)) = (0,−4,5)/√41; d = L·N = 4/√41.
     let d = 4.0 / 41f64.sqrt();
     let weight = 0.8 * d + 0.3 * d.powi(20);
@@ -96,13 +110,7 @@ fn shadow_and_mirror_follow_the_model() {
             diff= 1
          end",
     );
-    let img = render(
-        &s,
-        &RenderOptions {
-            spp: Some(1),
-            ..RenderOptions::default()
-        },
-    );
+    let img = render_one_spp(&s);
     // The centre ray hits the floor at the origin: the light is straight above,
     // behind the sphere, so the floor is black there.
     assert_eq!(img.pixel(5, 5), [0.0; 3]);
@@ -127,13 +135,7 @@ fn shadow_and_mirror_follow_the_model() {
             refl= 0.5
          end",
     );
-    let img = render(
-        &s,
-        &RenderOptions {
-            spp: Some(1),
-            ..RenderOptions::default()
-        },
-    );
+    let img = render_one_spp(&s);
     // Reflected ray goes straight up: background t = (1 + 1)/2 = 1 -> top.
     let want = [0.2 * 1.0 * 0.5, 0.4 * 0.5 * 0.5, 0.6 * 1.0 * 0.5];
     let got = img.pixel(5, 5);
@@ -167,13 +169,7 @@ fn glass_sphere_absorbs_along_the_chord() {
             absor= 0 0.5 2
          end",
     );
-    let img = render(
-        &s,
-        &RenderOptions {
-            spp: Some(1),
-            ..RenderOptions::default()
-        },
-    );
+    let img = render_one_spp(&s);
     let got = img.pixel(10, 10);
     let want = [1.0, (-0.5f64 * 2.0).exp(), (-2.0f64 * 2.0).exp()];
     for c in 0..3 {
@@ -204,13 +200,7 @@ fn one_sample_goes_through_the_pixel_centre() {
             color= 1 1 1
          end",
     );
-    let img = render(
-        &s,
-        &RenderOptions {
-            spp: Some(1),
-            ..RenderOptions::default()
-        },
-    );
+    let img = render_one_spp(&s);
     for y in 0..2 {
         for x in 0..4 {
             let lit = img.pixel(x, y) == [1.0; 3];
@@ -312,16 +302,8 @@ fn framework_scenes_render() {
         s.camera.width /= 8;
         s.camera.height /= 8;
         let img = render(&s, &RenderOptions::default());
-        let bytes = img.to_rgb8();
-        let mut colours: Vec<&[u8]> = bytes.chunks(3).collect();
-        colours.sort();
-        colours.dedup();
-        assert!(
-            colours.len() > 200,
-            "{}: only {} colours",
-            path.display(),
-            colours.len()
-        );
+        let colours = distinct_colours(&img);
+        assert!(colours > 200, "{}: only {colours} colours", path.display());
         for y in 0..img.height() {
             for x in 0..img.width() {
                 assert!(img.pixel(x, y).iter().all(|c| c.is_finite() && *c >= 0.0));
@@ -397,13 +379,7 @@ fn emitters_seen_directly_and_in_a_mirror() {
          end",
     );
     assert!(s.warnings.is_empty(), "intensity= is a light key");
-    let img = render(
-        &s,
-        &RenderOptions {
-            spp: Some(1),
-            ..RenderOptions::default()
-        },
-    );
+    let img = render_one_spp(&s);
     let bytes = img.to_rgb8();
     let at = |x: u32, y: u32| -> [u8; 3] {
         let k = ((y * 20 + x) * 3) as usize;
@@ -509,13 +485,6 @@ fn showcase_is_clean_and_renders() {
     }
     let mean = sum / (96.0 * 54.0);
     assert!(mean > 0.1 && mean < 0.7, "mean brightness {mean}");
-    let bytes = img.to_rgb8();
-    let mut colours: Vec<&[u8]> = bytes.chunks(3).collect();
-    colours.sort();
-    colours.dedup();
-    assert!(
-        colours.len() > 1500,
-        "only {} distinct colours",
-        colours.len()
-    );
+    let colours = distinct_colours(&img);
+    assert!(colours > 1500, "only {colours} distinct colours");
 }

@@ -131,14 +131,19 @@ impl Model {
         (z - h).abs().max((r.abs() - rho).abs())
     }
 
-    /// Every hit of the ray with the surface, found by scanning the exact
-    /// equations at `n` values of s and bisecting each sign change.
-    pub fn scan(&self, ray: &Ray, n: usize) -> Vec<RefHit> {
+    /// The ray's origin (from O1) and direction split along and across the axis: (pa, da, pp, dp).
+    pub fn split(&self, ray: &Ray) -> (f64, f64, DVec3, DVec3) {
         let p = ray.origin - self.o1;
         let d = ray.dir;
         let (pa, da) = (p.dot(self.a), d.dot(self.a));
-        let pp = p - self.a * pa;
-        let dp = d - self.a * da;
+        (pa, da, p - self.a * pa, d - self.a * da)
+    }
+
+    /// Every hit of the ray with the surface, found by scanning the exact
+    /// equations at `n` values of s and bisecting each sign change.
+    pub fn scan(&self, ray: &Ray, n: usize) -> Vec<RefHit> {
+        let d = ray.dir;
+        let (pa, da, pp, dp) = self.split(ray);
         let aa = dp.length_squared();
         let mut out = Vec::new();
         let mut push = |s: f64, t: f64| {

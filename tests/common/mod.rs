@@ -8,6 +8,8 @@
 pub mod bezier;
 
 use glam::{DMat3, DQuat, DVec3, EulerRot};
+use rand::Rng;
+use rand_pcg::Pcg64;
 
 /// A rotation from three Euler angles (test-side: glam's quaternion).
 pub fn rotation(angles: DVec3) -> DMat3 {
@@ -102,4 +104,48 @@ pub fn box_exit(c: DVec3, rot: DMat3, h: DVec3, o: DVec3, d: DVec3) -> (f64, f64
         .filter(|&i| dl[i] != 0.0)
         .map(|i| ((h[i] * dl[i].signum() - l[i]) / dl[i], dl[i].abs()))
         .fold((f64::INFINITY, 0.0), |a, b| if b.0 < a.0 { b } else { a })
+}
+
+/// The value of `"key":` in a one-line JSON object of the probe's shape (numbers, booleans, null, flat arrays).
+pub fn json_field<'a>(line: &'a str, key: &str) -> &'a str {
+    let k = format!("\"{key}\":");
+    let i = line
+        .find(&k)
+        .unwrap_or_else(|| panic!("no {key} in {line}"))
+        + k.len();
+    let rest = &line[i..];
+    let end = if rest.starts_with('[') {
+        rest.find(']').unwrap() + 1
+    } else {
+        rest.find([',', '}']).unwrap()
+    };
+    &rest[..end]
+}
+
+/// A uniform random point in the cube [−`half`, `half`)³.
+pub fn point_in(rng: &mut Pcg64, half: f64) -> DVec3 {
+    DVec3::new(
+        rng.random_range(-half..half),
+        rng.random_range(-half..half),
+        rng.random_range(-half..half),
+    )
+}
+
+/// A log-uniform size in [lo, hi].
+pub fn log_size(rng: &mut Pcg64, lo: f64, hi: f64) -> f64 {
+    rng.random_range(lo.ln()..hi.ln()).exp()
+}
+
+/// Three log-uniform half-lengths in [lo, hi] (x, y, z drawn in that order).
+pub fn half_sizes(rng: &mut Pcg64, lo: f64, hi: f64) -> DVec3 {
+    DVec3::new(
+        log_size(rng, lo, hi),
+        log_size(rng, lo, hi),
+        log_size(rng, lo, hi),
+    )
+}
+
+/// +1 or −1 with even odds.
+pub fn random_sign(rng: &mut Pcg64) -> f64 {
+    if rng.random_bool(0.5) { 1.0 } else { -1.0 }
 }
