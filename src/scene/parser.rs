@@ -266,17 +266,20 @@ fn header<'a>(
                 index = Some(builder.next_primitive_block());
             }
             let what = first.text;
-            let list = types
-                .iter()
-                .map(|t| format!("`{t}`"))
-                .collect::<Vec<_>>()
-                .join(", ");
+            // Only for error messages: built when one is reported.
+            let list = || {
+                types
+                    .iter()
+                    .map(|t| format!("`{t}`"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            };
             match line.words.get(1) {
                 None => {
                     diags.error(
                         Site::after(i, first),
                         format!("expected a {what} type after `{what}`"),
-                        Some(format!("the {what} types are {list}")),
+                        Some(format!("the {what} types are {}", list())),
                     );
                     (None, 1)
                 }
@@ -289,7 +292,7 @@ fn header<'a>(
                     if kind.is_none() {
                         let help = match closest(t.text, types) {
                             Some(s) => format!("did you mean `{s}`?"),
-                            None => format!("the {what} types are {list}"),
+                            None => format!("the {what} types are {}", list()),
                         };
                         diags.error(
                             Site::word(i, t),
