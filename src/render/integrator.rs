@@ -235,15 +235,16 @@ fn glossy_direction(
     rng: &mut Pcg32,
 ) -> DVec3 {
     let radius = (rng.random::<f64>()).exp2() - 1.0;
-    // A uniform angle as a point of the unit circle, by rejection from the
-    // square: cheaper than sin and cos.
+    // A uniform angle as a point of the unit circle, without sin and cos: a
+    // point (x, y) uniform in the unit disc has a uniform angle θ, and so has
+    // 2θ, whose cosine and sine are (x² − y², 2xy) / r² (no square root).
     let (c, s) = loop {
         let x = 2.0 * rng.random::<f64>() - 1.0;
         let y = 2.0 * rng.random::<f64>() - 1.0;
         let r2 = x * x + y * y;
         if r2 <= 1.0 && r2 > 1e-12 {
-            let inv = 1.0 / r2.sqrt();
-            break (x * inv, y * inv);
+            let inv = 1.0 / r2;
+            break ((x * x - y * y) * inv, 2.0 * x * y * inv);
         }
     };
     let mut dir = (mirror + (a1 * c + a2 * s) * (radius * drefl)).normalize();
@@ -303,5 +304,42 @@ mod tests {
         for _ in 0..2000 {
             assert!(glossy_direction(mirror, DVec3::Z, a1, a2, 0.25, &mut rng).z >= 0.0);
         }
+    }
+
+    #[test]
+    fn glossy_blur_angle_is_uniform_and_radius_follows_exp() {
+        use rand::SeedableRng;
+        let mut rng = Pcg32::seed_from_u64(11);
+        let mirror = DVec3::Z;
+        let (a1, a2) = crate::shading::perpendiculars(mirror);
+        let drefl = 0.5;
+        let n = 64_000;
+        let mut angle_bins = [0u32; 16];
+        let mut below_half = 0u32;
+        for _ in 0..n {
+            let d = glossy_direction(mirror, DVec3::Z, a1, a2, drefl, &mut rng);
+            // Back to the offset in the (a1, a2) plane: d ∝ mirror + offset.
+            let off = d / d.dot(mirror) - mirror;
+            let (x, y) = (off.dot(a1), off.dot(a2));
+            let phi = y.atan2(x).rem_euclid(std::f64::consts::TAU);
+            angle_bins[((phi / std::f64::consts::TAU) * 16.0) as usize % 16] += 1;
+            // radius = drefl·(2^u − 1): below drefl·(√2 − 1) exactly when u < ½.
+            if (x * x + y * y).sqrt() < drefl * (2f64.sqrt() - 1.0) {
+                below_half += 1;
+            }
+        }
+        // Chi-square with 15 degrees of freedom: 37.7 is its 0.999 quantile.
+        let expected = n as f64 / 16.0;
+        let chi2: f64 = angle_bins
+            .iter()
+            .map(|&k| (k as f64 - expected).powi(2) / expected)
+            .sum();
+        assert!(chi2 < 37.7, "angle not uniform: {angle_bins:?} chi2={chi2}");
+        // Half the radii below the median of 2^u − 1, within 4 standard deviations.
+        let sd = (n as f64 * 0.25).sqrt();
+        assert!(
+            (below_half as f64 - n as f64 / 2.0).abs() < 4.0 * sd,
+            "{below_half} of {n} radii below the median"
+        );
     }
 }
