@@ -21,27 +21,31 @@ pub fn shade_factor(
     rng: &mut impl Rng,
 ) -> (f64, u64) {
     let origin = offset_origin(point, side);
+    // Every shadow ray of this point starts here (same sliver); only its
+    // direction changes.
+    let from = Ray::off_surface(origin, DVec3::ZERO);
+    let towards = |dir: DVec3| Ray { dir, ..from };
     match light.kind {
         LightKind::Point { pos } => {
             let to = pos - origin;
             let dist = to.length();
-            let blocked =
-                dist > 0.0 && accel.occluded(&Ray::off_surface(origin, to / dist), dist, None);
+            let blocked = dist > 0.0 && accel.occluded(&towards(to / dist), dist, None);
             (if blocked { 0.0 } else { 1.0 }, 1)
         }
         LightKind::Square { center, dx, dy } => {
             let (rows, cols) = strata(samples);
+            let (cell_a, cell_b) = (2.0 / cols as f64, 2.0 / rows as f64);
             let mut lit = 0u32;
             let mut blocker = None;
             for r in 0..rows {
                 for c in 0..cols {
-                    let a = 2.0 * (c as f64 + rng.random::<f64>()) / cols as f64 - 1.0;
-                    let b = 2.0 * (r as f64 + rng.random::<f64>()) / rows as f64 - 1.0;
+                    let a = (c as f64 + rng.random::<f64>()) * cell_a - 1.0;
+                    let b = (r as f64 + rng.random::<f64>()) * cell_b - 1.0;
                     let to = center + dx * a + dy * b - origin;
                     let dist = to.length();
                     if dist > 0.0
                         && !accel.occluded_hinted(
-                            &Ray::off_surface(origin, to / dist),
+                            &towards(to * (1.0 / dist)),
                             dist,
                             Some(index),
                             &mut blocker,
@@ -78,7 +82,7 @@ pub fn shade_factor(
                     let phi = TAU * (c as f64 + rng.random::<f64>()) / cols as f64;
                     let dir =
                         (w * cos_t + (u_axis * phi.cos() + v_axis * phi.sin()) * sin_t).normalize();
-                    let ray = Ray::off_surface(origin, dir);
+                    let ray = towards(dir);
                     // Up to the light's surface (the tangent distance for rounding at the rim).
                     let t_light = sphere.roots(&ray).map_or(tangent, |(t0, _)| t0);
                     if !accel.occluded_hinted(&ray, t_light, Some(index), &mut blocker) {
