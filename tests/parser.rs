@@ -455,7 +455,25 @@ primitive square\n Dx= 1 0 0\n Dy= 0 1 0\nend
 ");
     let blocks: Vec<_> = s.objects.iter().map(|o| o.block).collect();
     assert_eq!(blocks, vec![Some(0), None, Some(1), Some(2)]);
-    assert_eq!(s.materials.len(), 4);
+    // The plane and the square, one after the other with the same (default)
+    // material, share it; the others keep their own.
+    let materials: Vec<_> = s.objects.iter().map(|o| o.material).collect();
+    assert_eq!(materials, vec![0, 1, 2, 2]);
+    assert_eq!(s.materials.len(), 3);
+}
+
+#[test]
+fn only_equal_materials_are_shared() {
+    let sphere =
+        |color: &str| format!("primitive sphere\n R= 1\n color= {color}\n diff= 0.5\nend\n");
+    let s = ok(&(sphere("1 0 0") + &sphere("1 0 0") + &sphere("0 1 0") + &sphere("1 0 0")));
+    let materials: Vec<_> = s.objects.iter().map(|o| o.material).collect();
+    assert_eq!(materials, vec![0, 0, 1, 2]);
+    let colors: Vec<_> = s.materials.iter().map(|m| m.color).collect();
+    assert_eq!(
+        colors,
+        vec![v(1.0, 0.0, 0.0), v(0.0, 1.0, 0.0), v(1.0, 0.0, 0.0)]
+    );
 }
 
 // ---------------------------------------------------------------- lexical

@@ -310,9 +310,13 @@ impl Scene {
         index
     }
 
-    /// Adds a material and returns its index.
+    /// Adds a material and returns its index; one equal to the last added is
+    /// shared instead (generated files repeat the same material block after
+    /// block, and a million copies would cost 100 MB).
     pub fn add_material(&mut self, material: Material) -> u32 {
-        self.materials.push(material);
+        if self.materials.last() != Some(&material) {
+            self.materials.push(material);
+        }
         (self.materials.len() - 1) as u32
     }
 
