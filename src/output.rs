@@ -207,9 +207,10 @@ mod tests {
     }
 
     #[test]
-    fn unknown_extension_is_an_error_and_writes_nothing() {
+    fn unknown_extension_is_an_error_and_writes_nothing() -> Result<(), Box<dyn std::error::Error>>
+    {
         let dir = std::env::temp_dir().join(format!("glint-out-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::create_dir_all(&dir)?;
         let p = dir.join("x.tiff");
         let img = Image::from_fn(2, 2, |_, _| DVec3::ONE);
         assert!(matches!(img.save(&p), Err(SaveError::UnknownFormat { .. })));
@@ -218,14 +219,15 @@ mod tests {
         assert!(img.save(dir.join("missing/x.png")).is_err());
         // Round trip through PNG.
         let p = dir.join("x.png");
-        img.save(&p).unwrap();
-        let back = ::image::open(&p).unwrap().to_rgb8();
+        img.save(&p)?;
+        let back = ::image::open(&p)?.to_rgb8();
         assert_eq!(back.as_raw(), &vec![255u8; 12]);
         assert_eq!(
-            std::fs::read_dir(&dir).unwrap().count(),
+            std::fs::read_dir(&dir)?.count(),
             1,
             "no temporary file left"
         );
-        std::fs::remove_dir_all(&dir).unwrap();
+        std::fs::remove_dir_all(&dir)?;
+        Ok(())
     }
 }

@@ -65,7 +65,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn floor_plane_hit_and_tiling() {
+    fn floor_plane_hit_and_tiling() -> Result<(), &'static str> {
         let p = Plane::new(
             DVec3::new(0.0, 0.0, 2.0),
             -2.0,
@@ -73,7 +73,9 @@ mod tests {
             DVec3::new(0.0, 8.0, 0.0),
         );
         let r = Ray::new(DVec3::new(4.0, 12.0, 1.0), -DVec3::Z);
-        let h = p.intersect(&r, 0.0, f64::INFINITY).unwrap();
+        let h = p
+            .intersect(&r, 0.0, f64::INFINITY)
+            .ok_or("the ray straight down misses the plane")?;
         assert_eq!(h.t, 3.0);
         let s = p.surface(&r, &h);
         assert_eq!(s.point, DVec3::new(4.0, 12.0, -2.0));
@@ -87,5 +89,6 @@ mod tests {
             p.intersect(&Ray::new(DVec3::ZERO, DVec3::Z), 0.0, 1e9)
                 .is_none()
         );
+        Ok(())
     }
 }

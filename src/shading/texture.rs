@@ -120,9 +120,9 @@ mod tests {
     }
 
     #[test]
-    fn bmp_rows_are_bottom_up() {
+    fn bmp_rows_are_bottom_up() -> Result<(), Box<dyn std::error::Error>> {
         let dir = std::env::temp_dir().join(format!("glint-tex-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::create_dir_all(&dir)?;
         let path = dir.join("t.bmp");
         // Top row red, bottom row blue, as a person sees the picture.
         let img = image::RgbImage::from_fn(1, 2, |_, y| {
@@ -132,10 +132,11 @@ mod tests {
                 image::Rgb([0, 0, 255])
             }
         });
-        img.save(&path).unwrap();
-        let t = Texture::load(&path).unwrap();
+        img.save(&path)?;
+        let t = Texture::load(&path)?;
         assert_eq!(t.sample(DVec2::new(0.0, 0.0)), DVec3::Z);
         assert_eq!(t.sample(DVec2::new(0.5, 0.0)), DVec3::X);
-        std::fs::remove_dir_all(&dir).unwrap();
+        std::fs::remove_dir_all(&dir)?;
+        Ok(())
     }
 }
