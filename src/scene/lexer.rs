@@ -38,6 +38,8 @@ impl<'a> Word<'a> {
 /// before any comment.
 #[derive(Clone, Debug)]
 pub(crate) struct Line<'a> {
+    /// Byte offset of the line's start in the lexed text.
+    pub start: usize,
     /// The line's text, for excerpts.
     pub text: &'a str,
     /// The words before any comment.
@@ -47,6 +49,11 @@ pub(crate) struct Line<'a> {
 /// Splits `text` into lines (`\n`, `\r\n` or a lone `\r` end a line),
 /// lazily: a million-primitive file is never held as a list of lines.
 pub(crate) fn split_lines(text: &str) -> impl Iterator<Item = &str> {
+    line_spans(text).map(|(_, line)| line)
+}
+
+/// [`split_lines`], each line with the byte offset of its start.
+fn line_spans(text: &str) -> impl Iterator<Item = (usize, &str)> {
     let bytes = text.as_bytes();
     let mut start = 0;
     std::iter::from_fn(move || {
@@ -62,7 +69,7 @@ pub(crate) fn split_lines(text: &str) -> impl Iterator<Item = &str> {
             Some(k) => (start + k, start + k + 1),
             None => (bytes.len(), bytes.len()),
         };
-        let line = &text[start..line_end];
+        let line = (start, &text[start..line_end]);
         start = next;
         Some(line)
     })
@@ -155,10 +162,17 @@ fn close<'a>(
     }
 }
 
-/// Lexes a whole file line by line (a leading byte-order mark is skipped).
+/// The text without a leading byte-order mark; only the very start of a
+/// file may carry one.
+pub(crate) fn strip_bom(text: &str) -> &str {
+    text.strip_prefix('\u{feff}').unwrap_or(text)
+}
+
+/// Lexes text line by line, as it is: a byte-order mark is the caller's
+/// business ([`strip_bom`]), as the text may be a later piece of a file.
 pub(crate) fn lex(text: &str) -> impl Iterator<Item = Line<'_>> {
-    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    split_lines(text).map(|l| Line {
+    line_spans(text).map(|(start, l)| Line {
+        start,
         text: l,
         words: words(l),
     })
@@ -258,6 +272,19 @@ mod tests {
         assert_eq!(split_lines("a\n").collect::<Vec<_>>(), vec!["a"]);
         assert_eq!(split_lines("a\n\n").collect::<Vec<_>>(), vec!["a", ""]);
         assert_eq!(split_lines("").count(), 0);
+    }
+
+    #[test]
+    fn line_starts_and_byte_order_marks() {
+        let starts: Vec<_> = lex("a\r\nbé\rc\n\nd").map(|l| (l.start, l.text)).collect();
+        assert_eq!(
+            starts,
+            vec![(0, "a"), (3, "bé"), (7, "c"), (9, ""), (10, "d")]
+        );
+        // Only `strip_bom` drops the mark: a later piece of a file keeps it.
+        assert_eq!(lex("\u{feff}a").next().map(|l| l.text), Some("\u{feff}a"));
+        assert_eq!(strip_bom("\u{feff}\u{feff}a"), "\u{feff}a");
+        assert_eq!(strip_bom("a\u{feff}"), "a\u{feff}");
     }
 
     #[test]

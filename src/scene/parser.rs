@@ -7,6 +7,7 @@ use super::build::{BlockKind, Builder, Entry, LIGHT_TYPES, PRIMITIVE_TYPES};
 use super::lexer::{self, Line, Word};
 use super::suggest::closest;
 use super::{Diagnostic, Scene, SceneError, Severity};
+use std::io::Read;
 use std::path::Path;
 
 /// The words that open a block.
@@ -53,8 +54,8 @@ impl Site {
 }
 
 /// Collects diagnostics, turning [`Site`]s into file/line/column/excerpt.
-/// The excerpts (`source_line`) are filled in one pass over the text at the
-/// end, so reading keeps nothing per line of the file.
+/// The excerpts (`source_line`) are filled from each piece of text once it
+/// has been read, so reading keeps nothing per line of the file.
 pub(crate) struct Diags {
     file: String,
     out: Vec<Diagnostic>,
@@ -102,28 +103,55 @@ impl Diags {
         self.errors
     }
 
-    /// The diagnostics in file order, each with the text of its line.
-    fn into_sorted(self, text: &str) -> Vec<Diagnostic> {
-        let mut all = self.out;
-        // Stable: diagnostics found at the same place keep the order they were found in.
-        all.sort_by_key(|d| (d.line, d.column));
-        let mut next = all.iter_mut().peekable();
-        for (i, line) in lexer::lex(text).enumerate() {
-            while let Some(d) = next.next_if(|d| d.line <= i + 1) {
-                if d.line == i + 1 {
-                    d.source_line = line.text.to_string();
+    /// Fills the excerpts of the diagnostics from the `from`-th on, all about
+    /// lines of `text`, whose first line is the file's 0-based line `first_line`.
+    fn fill_source_lines(&mut self, from: usize, text: &str, first_line: usize) {
+        let Some(fresh) = self.out.get_mut(from..) else {
+            return;
+        };
+        if fresh.is_empty() {
+            return;
+        }
+        let mut order: Vec<(usize, usize)> =
+            fresh.iter().enumerate().map(|(k, d)| (d.line, k)).collect();
+        order.sort_unstable();
+        let mut next = order.iter().peekable();
+        for (k, line) in lexer::split_lines(text).enumerate() {
+            let number = first_line + k + 1;
+            while let Some(&(at, d)) = next.next_if(|(at, _)| *at <= number) {
+                if at == number
+                    && let Some(d) = fresh.get_mut(d)
+                {
+                    d.source_line = line.to_string();
                 }
             }
             if next.peek().is_none() {
                 break;
             }
         }
+    }
+
+    /// The diagnostics in file order.
+    fn into_sorted(self) -> Vec<Diagnostic> {
+        let mut all = self.out;
+        // Stable: diagnostics found at the same place keep the order they were found in.
+        all.sort_by_key(|d| (d.line, d.column));
         all
     }
 }
 
+/// How much of a scene file is read at a time.
+const CHUNK: usize = 1 << 20;
+
 pub(super) fn parse_file(path: &Path) -> Result<Scene, SceneError> {
-    let bytes = std::fs::read(path).map_err(|e| SceneError {
+    let file = std::fs::File::open(path).map_err(|e| read_error(path, &e))?;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    parse_chunked(file, path, dir, CHUNK)
+}
+
+/// The error for a scene file that cannot be read (line 0: the file as a whole).
+fn read_error(path: &Path, e: &std::io::Error) -> SceneError {
+    SceneError {
         diagnostics: vec![Diagnostic {
             severity: Severity::Error,
             message: format!("cannot read the scene file: {e}"),
@@ -134,11 +162,71 @@ pub(super) fn parse_file(path: &Path) -> Result<Scene, SceneError> {
             source_line: String::new(),
             help: None,
         }],
-    })?;
-    // Old files carry Latin-1 comments; those bytes only ever matter in comments.
-    let text = String::from_utf8_lossy(&bytes);
-    let dir = path.parent().unwrap_or(Path::new("."));
-    parse_str(&text, Some(path), dir)
+    }
+}
+
+/// Parses a scene file from `input`, reading about `chunk` bytes at a time
+/// and keeping only the text not yet parsed.
+fn parse_chunked(
+    mut input: impl Read,
+    path: &Path,
+    base: &Path,
+    chunk: usize,
+) -> Result<Scene, SceneError> {
+    let chunk = chunk.max(1);
+    let mut reader = Reader::new(Some(path), base);
+    // Bytes read but not yet parsed: after the last `\n` read so far.
+    let mut raw: Vec<u8> = Vec::new();
+    // The text to parse next: the carried part of the last piece, then new lines.
+    let mut text = String::new();
+    let mut start_of_file = true;
+    loop {
+        // A block still open is parsed again from its header after each
+        // read; reading an eighth of it at least keeps a huge one linear.
+        let want = chunk.max(text.len() / 8);
+        let old = raw.len();
+        raw.reserve(want);
+        let got = (&mut input)
+            .take(want as u64)
+            .read_to_end(&mut raw)
+            .map_err(|e| read_error(path, &e))?;
+        let last = got == 0;
+        // Cut after a `\n`: no `\r\n`, no UTF-8 character is split, and
+        // `from_utf8_lossy` of each piece is that of the whole file.
+        let cut = if last {
+            raw.len()
+        } else {
+            match raw
+                .get(old..)
+                .and_then(|new| new.iter().rposition(|&b| b == b'\n'))
+            {
+                Some(k) => old + k + 1,
+                None => continue,
+            }
+        };
+        let piece = raw.get(..cut).unwrap_or_default();
+        // Old files carry Latin-1 comments; those bytes only ever matter in comments.
+        let piece = String::from_utf8_lossy(piece);
+        text.push_str(if start_of_file {
+            lexer::strip_bom(&piece)
+        } else {
+            &piece
+        });
+        start_of_file = false;
+        raw.drain(..cut);
+        let carry = reader.feed(&text, last);
+        if last {
+            break;
+        }
+        text.drain(..carry.min(text.len()));
+    }
+    reader.finish()
+}
+
+pub(super) fn parse_str(text: &str, path: Option<&Path>, base: &Path) -> Result<Scene, SceneError> {
+    let mut reader = Reader::new(path, base);
+    reader.feed(lexer::strip_bom(text), true);
+    reader.finish()
 }
 
 /// A block being read: its kind (`None` when the header was wrong, so its
@@ -147,111 +235,172 @@ struct Open<'a> {
     kind: Option<BlockKind>,
     header: Site,
     entries: Vec<Entry<'a>>,
-    /// 0-based index among `primitive` blocks (primitives only).
-    index: Option<u32>,
+    /// Whether it is a `primitive` block (they are numbered when finished).
+    primitive: bool,
 }
 
-pub(super) fn parse_str(text: &str, path: Option<&Path>, base: &Path) -> Result<Scene, SceneError> {
-    let file = path.map_or_else(|| "<input>".to_string(), |p| p.display().to_string());
-    let mut diags = Diags::new(file);
-    let mut builder = Builder::new(base, path);
-    let mut open: Option<Open<'_>> = None;
-    // After text outside a block, stay quiet until the next header: one
-    // error per misspelt header, not one per line of its block.
-    let mut skipping = false;
+/// Where the block still open began, and the state just before its header,
+/// to read it again from there with the next piece of text.
+#[derive(Clone, Copy, Default)]
+struct Mark {
+    /// Byte offset of the header line in the piece.
+    start: usize,
+    /// 0-based line of the header in the file.
+    line: usize,
+    /// Diagnostics and errors recorded before the header (`skipping` needs
+    /// no saving: the header line clears it when read again).
+    diags: usize,
+    errors: usize,
+}
 
-    for (i, line) in lexer::lex(text).enumerate() {
-        let line = &line;
-        let Some(first) = line.words.first() else {
-            continue;
-        };
-        if let Some(block) = open.as_mut() {
-            if first.text == "end" {
-                if let Some(extra) = line.words.get(1) {
-                    let last = line.words.last().unwrap_or(extra);
-                    diags.warn(
-                        Site::span(i, extra, last),
-                        "text after `end` is ignored",
-                        None,
-                    );
-                }
-                if let Some(block) = open.take() {
-                    finish(block, &mut builder, &mut diags);
-                }
-                continue;
-            }
-            if !HEADERS.contains(&first.text) {
-                read_line(block, i, line, &mut diags);
-                continue;
-            }
-            let header = block.header;
-            diags.error(
-                header,
-                "this block has no `end`",
-                Some(format!("expected a line `end` before line {}", i + 1)),
-            );
-            if let Some(block) = open.take() {
-                finish(block, &mut builder, &mut diags);
-            }
+/// A scene file being read, piece by piece: what lives from one piece of
+/// text to the next.
+struct Reader<'p> {
+    diags: Diags,
+    builder: Builder<'p>,
+    /// After text outside a block, stay quiet until the next header: one
+    /// error per misspelt header, not one per line of its block.
+    skipping: bool,
+    /// 0-based line of the file where the next piece starts.
+    line: usize,
+}
+
+impl<'p> Reader<'p> {
+    /// A reader of the file `path` (`None`: a string), resolving relative
+    /// paths against `base` first.
+    fn new(path: Option<&Path>, base: &'p Path) -> Self {
+        let file = path.map_or_else(|| "<input>".to_string(), |p| p.display().to_string());
+        Reader {
+            diags: Diags::new(file),
+            builder: Builder::new(base, path),
+            skipping: false,
+            line: 0,
         }
-        if first.text == "end" {
-            if !skipping {
-                diags.error(Site::word(i, first), "`end` without a block to close", None);
-            }
-            skipping = false;
-            continue;
-        }
-        match header(i, line, &mut diags, &mut builder) {
-            Some(block) => {
-                open = Some(block);
-                skipping = false;
-            }
-            None if !skipping => {
-                let help = closest(first.text, &HEADERS).map(|h| format!("did you mean `{h}`?"));
-                let last = line.words.last().unwrap_or(first);
-                diags.error(
-                    Site::span(i, first, last),
-                    format!(
-                        "text outside a block: expected a block header (`background`, `camera`, \
-                         `light TYPE` or `primitive TYPE`), found `{}`",
-                        first.text
-                    ),
-                    help,
+    }
+
+    /// Parses the next piece of the file: whole lines (ending in `\n` unless
+    /// `last`). Returns the byte offset where the block still open at its end
+    /// begins, to be fed again in front of the next piece; `text.len()` if none.
+    fn feed(&mut self, text: &str, last: bool) -> usize {
+        let first_line = self.line;
+        let first_diag = self.diags.out.len();
+        let mut lines = 0;
+        let mut open: Option<Open<'_>> = None;
+        let mut mark = Mark::default();
+
+        for (k, line) in lexer::lex(text).enumerate() {
+            let i = first_line + k;
+            lines = k + 1;
+            let line = &line;
+            let Some(first) = line.words.first() else {
+                continue;
+            };
+            if let Some(block) = open.as_mut() {
+                if first.text == "end" {
+                    if let Some(extra) = line.words.get(1) {
+                        let last = line.words.last().unwrap_or(extra);
+                        self.diags.warn(
+                            Site::span(i, extra, last),
+                            "text after `end` is ignored",
+                            None,
+                        );
+                    }
+                    if let Some(block) = open.take() {
+                        finish(block, &mut self.builder, &mut self.diags);
+                    }
+                    continue;
+                }
+                if !HEADERS.contains(&first.text) {
+                    read_line(block, i, line, &mut self.diags);
+                    continue;
+                }
+                let header = block.header;
+                self.diags.error(
+                    header,
+                    "this block has no `end`",
+                    Some(format!("expected a line `end` before line {}", i + 1)),
                 );
-                skipping = true;
+                if let Some(block) = open.take() {
+                    finish(block, &mut self.builder, &mut self.diags);
+                }
             }
-            None => {}
+            if first.text == "end" {
+                if !self.skipping {
+                    self.diags
+                        .error(Site::word(i, first), "`end` without a block to close", None);
+                }
+                self.skipping = false;
+                continue;
+            }
+            mark = Mark {
+                start: line.start,
+                line: i,
+                diags: self.diags.out.len(),
+                errors: self.diags.errors,
+            };
+            match header(i, line, &mut self.diags) {
+                Some(block) => {
+                    open = Some(block);
+                    self.skipping = false;
+                }
+                None if !self.skipping => {
+                    let help =
+                        closest(first.text, &HEADERS).map(|h| format!("did you mean `{h}`?"));
+                    let last = line.words.last().unwrap_or(first);
+                    self.diags.error(
+                        Site::span(i, first, last),
+                        format!(
+                            "text outside a block: expected a block header (`background`, \
+                             `camera`, `light TYPE` or `primitive TYPE`), found `{}`",
+                            first.text
+                        ),
+                        help,
+                    );
+                    self.skipping = true;
+                }
+                None => {}
+            }
         }
-    }
-    if let Some(block) = open.take() {
-        diags.error(
-            block.header,
-            "this block has no `end`",
-            Some("expected a line `end` before the end of the file".to_string()),
-        );
-        finish(block, &mut builder, &mut diags);
+
+        let mut carry = text.len();
+        self.line = first_line + lines;
+        if let Some(block) = open.take() {
+            if last {
+                self.diags.error(
+                    block.header,
+                    "this block has no `end`",
+                    Some("expected a line `end` before the end of the file".to_string()),
+                );
+                finish(block, &mut self.builder, &mut self.diags);
+            } else {
+                // Forget the block's lines: they are read again, whole, with the next piece.
+                self.diags.out.truncate(mark.diags);
+                self.diags.errors = mark.errors;
+                self.line = mark.line;
+                carry = mark.start;
+            }
+        }
+        self.diags.fill_source_lines(first_diag, text, first_line);
+        carry
     }
 
-    let mut scene = builder.finish();
-    let errors = diags.error_count();
-    let all = diags.into_sorted(text);
-    if errors > 0 {
-        return Err(SceneError { diagnostics: all });
+    /// The scene, or every error; warnings and errors in file order.
+    fn finish(self) -> Result<Scene, SceneError> {
+        let mut scene = self.builder.finish();
+        let errors = self.diags.error_count();
+        let all = self.diags.into_sorted();
+        if errors > 0 {
+            return Err(SceneError { diagnostics: all });
+        }
+        scene.warnings = all;
+        Ok(scene)
     }
-    scene.warnings = all;
-    Ok(scene)
 }
 
 /// Reads a header line; `None` (with no diagnostic) when the first word is
 /// not a header word, `Some` with `kind: None` when it is but its type is wrong.
-fn header<'a>(
-    i: usize,
-    line: &Line<'a>,
-    diags: &mut Diags,
-    builder: &mut Builder<'_>,
-) -> Option<Open<'a>> {
+fn header<'a>(i: usize, line: &Line<'a>, diags: &mut Diags) -> Option<Open<'a>> {
     let first = line.words.first()?;
-    let mut index = None;
     let (kind, used) = match first.text {
         "background" => (Some(BlockKind::Background), 1),
         "camera" => (Some(BlockKind::Camera), 1),
@@ -262,9 +411,6 @@ fn header<'a>(
             } else {
                 &PRIMITIVE_TYPES
             };
-            if !is_light {
-                index = Some(builder.next_primitive_block());
-            }
             let what = first.text;
             // Only for error messages: built when one is reported.
             let list = || {
@@ -318,7 +464,7 @@ fn header<'a>(
         kind,
         header: Site::span(i, first, header_end),
         entries: Vec::new(),
-        index,
+        primitive: first.text == "primitive",
     })
 }
 
@@ -437,13 +583,483 @@ fn bare_word(kind: BlockKind, i: usize, line: &Line<'_>, diags: &mut Diags) {
 
 /// Hands a complete block to the builder.
 fn finish(block: Open<'_>, builder: &mut Builder<'_>, diags: &mut Diags) {
+    // Numbered here, not at the header: a block read again with the next
+    // piece of the file must not take a second number. Blocks finish in file order.
+    let index = if block.primitive {
+        builder.next_primitive_block()
+    } else {
+        0
+    };
     if let Some(kind) = block.kind {
-        builder.block(
-            kind,
-            block.header,
-            &block.entries,
-            block.index.unwrap_or(0),
-            diags,
+        builder.block(kind, block.header, &block.entries, index, diags);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::io;
+    use std::path::PathBuf;
+
+    /// Chunk sizes to read the test files with: tiny ones cut every block.
+    const SIZES: [usize; 9] = [1, 2, 3, 5, 7, 13, 64, 4096, CHUNK];
+
+    /// The first difference between two parses, if any.
+    fn difference(a: &Result<Scene, SceneError>, b: &Result<Scene, SceneError>) -> Option<String> {
+        match (a, b) {
+            (Ok(a), Ok(b)) => {
+                let fields = [
+                    ("path", a.path == b.path),
+                    ("camera", a.camera == b.camera),
+                    ("background", a.background == b.background),
+                    ("materials", a.materials().eq(b.materials())),
+                    ("textures", a.textures == b.textures),
+                    ("lights", a.lights == b.lights),
+                    // Objects have no `PartialEq`; `Debug` prints every float exactly.
+                    (
+                        "objects",
+                        format!("{:?}", a.objects) == format!("{:?}", b.objects),
+                    ),
+                    ("warnings", a.warnings == b.warnings),
+                    ("notes", a.notes == b.notes),
+                ];
+                let (name, _) = fields.iter().find(|(_, same)| !same)?;
+                Some(format!("the scenes' {name} differ"))
+            }
+            (Err(a), Err(b)) => {
+                if a.diagnostics == b.diagnostics {
+                    return None;
+                }
+                let k = a
+                    .diagnostics
+                    .iter()
+                    .zip(&b.diagnostics)
+                    .position(|(x, y)| x != y)
+                    .unwrap_or(a.diagnostics.len().min(b.diagnostics.len()));
+                Some(format!(
+                    "diagnostic {k} differs:\n{:#?}\nvs\n{:#?}",
+                    a.diagnostics.get(k),
+                    b.diagnostics.get(k)
+                ))
+            }
+            (Ok(_), Err(e)) => Some(format!(
+                "the first parse succeeded, the second failed:\n{e}"
+            )),
+            (Err(e), Ok(_)) => Some(format!(
+                "the first parse failed, the second succeeded:\n{e}"
+            )),
+        }
+    }
+
+    /// Where the in-memory test files pretend to be (textures resolve there).
+    fn mem_path() -> &'static Path {
+        Path::new("tests/data/mem.txt")
+    }
+
+    /// Parses `bytes` as a whole text, then in chunks of every size in
+    /// [`SIZES`], and checks every parse gives exactly the same; returns it.
+    fn same_in_chunks(name: &str, bytes: &[u8]) -> Result<Scene, SceneError> {
+        let base = Path::new("tests/data");
+        let whole = parse_str(&String::from_utf8_lossy(bytes), Some(mem_path()), base);
+        for n in SIZES {
+            let chunked = parse_chunked(bytes, mem_path(), base, n);
+            if let Some(d) = difference(&whole, &chunked) {
+                panic!("{name}, read in chunks of {n} bytes: {d}");
+            }
+        }
+        whole
+    }
+
+    /// The diagnostics of a parse, errors and warnings alike.
+    fn diags_of(r: &Result<Scene, SceneError>) -> &[Diagnostic] {
+        match r {
+            Ok(s) => &s.warnings,
+            Err(e) => &e.diagnostics,
+        }
+    }
+
+    /// (line, column, source line) of each diagnostic.
+    fn places(r: &Result<Scene, SceneError>) -> Vec<(usize, usize, &str)> {
+        diags_of(r)
+            .iter()
+            .map(|d| (d.line, d.column, d.source_line.as_str()))
+            .collect()
+    }
+
+    /// A scene that renders, with a warning in most blocks.
+    const WARNED: &str = "# warnings in most blocks
+camera
+    O= 0 -5 1
+    N= 0 1 0
+    image_W= 64
+    image_H= 48
+end
+background top
+    top= 0.1 0.2 0.3
+    colour= 1 1 1
+end
+light point
+    O= 0 0 5
+    color= 1 1 1
+end   trailing words
+primitive sphere
+    O= 0 0 0
+    R= 1
+    Cylinder
+    color= 1 0 0
+    diff= 0.5
+end
+
+primitive plane
+    N= 0 0 1
+    R= -1
+    color= 0.5 0.5 0.5
+    diff= 1
+end
+camera
+    O= 0 -6 1
+end
+primitive square
+    O= 0 0 2
+    Dx= 1 0 0
+    Dy= 0 1 0
+    texture= tiny.bmp
+    diff= 1
+end
+primitive sphere
+    O= 2 2 2
+    R= 0.5
+    refr= 1
+    rindex= 1.5
+end";
+
+    /// A scene with errors all over, of every kind the parser itself finds.
+    const BROKEN: &str = "camera
+    O= 0 -5 1
+    lens_W= -1
+end
+primitve sphere
+    O= 0 0 0
+end
+end
+primitive spere
+    O= 1 1 1
+    R= 1
+end
+primitive sphere
+    O= 2 2 2
+    R x
+    R= 1
+primitive sphere
+    O= 3 3 3
+    R= many
+    = 4
+    radius= 2
+end
+light
+    O= 0 0 0
+end
+primitive sphere
+    O= 4 4 4
+    R= 1";
+
+    #[test]
+    fn blocks_split_across_chunks() {
+        let s = same_in_chunks("warned", WARNED.as_bytes()).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(s.objects.len(), 4);
+        assert_eq!(s.warnings.len(), 5, "{:#?}", s.warnings);
+        let e = same_in_chunks("broken", BROKEN.as_bytes()).unwrap_err();
+        assert!(e.diagnostics.len() >= 8, "{:#?}", e.diagnostics);
+        // The block without `end` at the end of the file: its header.
+        let last = e
+            .diagnostics
+            .last()
+            .map(|d| (d.line, d.column, d.message.as_str()));
+        assert_eq!(last, Some((26, 1, "this block has no `end`")));
+    }
+
+    #[test]
+    fn line_breaks_at_the_cuts() {
+        for (name, text) in [("warned", WARNED), ("broken", BROKEN)] {
+            let crlf = text.replace('\n', "\r\n");
+            let cr = text.replace('\n', "\r");
+            // Every kind of line break, in turn.
+            let mixed: String = text
+                .split('\n')
+                .enumerate()
+                .map(|(k, l)| format!("{l}{}", ["\n", "\r\n", "\r"][k % 3]))
+                .collect();
+            let lf = same_in_chunks(name, text.as_bytes());
+            for (kind, t) in [("CRLF", &crlf), ("CR", &cr), ("mixed", &mixed)] {
+                let other = same_in_chunks(&format!("{name} {kind}"), t.as_bytes());
+                // The same lines, so the same places.
+                assert_eq!(places(&lf), places(&other), "{name} {kind}");
+            }
+        }
+    }
+
+    #[test]
+    fn byte_order_mark_only_at_the_start() {
+        let bom = format!("\u{feff}{WARNED}");
+        let with = same_in_chunks("BOM", bom.as_bytes()).unwrap_or_else(|e| panic!("{e}"));
+        assert!(
+            with.warnings
+                .iter()
+                .all(|d| !d.source_line.contains('\u{feff}'))
         );
+        // A misspelt header on the first line: the excerpt has no mark.
+        let e = same_in_chunks("BOM error", "\u{feff}camra\nend\n".as_bytes()).unwrap_err();
+        assert_eq!(places(&Err(e)), vec![(1, 1, "camra")]);
+        // A mark at the start of a later line is a character like any other,
+        // also when a chunk starts with that line (after the long comment).
+        let later = format!("{WARNED}\n# {}\n\u{feff}camera\nend\n", "-".repeat(200));
+        let e = same_in_chunks("later BOM", later.as_bytes()).unwrap_err();
+        let d = e.errors().map(|d| (d.line, d.source_line.as_str()));
+        assert_eq!(d.collect::<Vec<_>>(), vec![(47, "\u{feff}camera")]);
+    }
+
+    #[test]
+    fn bytes_that_are_not_utf8() {
+        // Latin-1 comments (é = 0xE9), a byte cut off a UTF-8 character just
+        // before a line break, and a bad byte in a line with an error.
+        let mut bytes = b"# caf\xe9 au lait\n".to_vec();
+        bytes.extend_from_slice(WARNED.as_bytes());
+        bytes.extend_from_slice(
+            b"\n# \xc3\nprimitive sphere # \xe9t\xe9\n    O= 0 0 0\n    R= 1\nend\n",
+        );
+        let s = same_in_chunks("latin-1", &bytes).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(s.objects.len(), 5);
+        bytes.extend_from_slice(b"primitive sph\xe8re\nend\n");
+        let e = same_in_chunks("latin-1 error", &bytes).unwrap_err();
+        let d = e.errors().next().map(|d| (d.column, d.source_line.clone()));
+        assert_eq!(d, Some((11, "primitive sph\u{fffd}re".to_string())));
+    }
+
+    #[test]
+    fn characters_of_several_bytes() {
+        let text = format!(
+            "# café ☕ 日本語 🎨\n{WARNED}\nprimitive sphere // ½ 🎨\n    O= 0 0 0\n    colör= 1 1 1\n    R= 1\nend\n"
+        );
+        let s = same_in_chunks("multi-byte", text.as_bytes()).unwrap_or_else(|e| panic!("{e}"));
+        let w = s
+            .warnings
+            .last()
+            .map(|d| (d.column, d.len, d.source_line.as_str()));
+        assert_eq!(w, Some((5, 6, "    colör= 1 1 1")));
+        let e = same_in_chunks("multi-byte error", "日本 🎨 x\n".as_bytes()).unwrap_err();
+        assert_eq!(places(&Err(e)), vec![(1, 1, "日本 🎨 x")]);
+    }
+
+    #[test]
+    fn blocks_without_end() {
+        // One block, never closed: the carried text grows to the whole file.
+        let mut open = "primitive sphere\n    O= 0 0 0\n    R= x\n".to_string();
+        for k in 0..200 {
+            open += &format!("    # line {k}\n    diff= 0.5\n");
+        }
+        let e = same_in_chunks("open to the end", open.as_bytes()).unwrap_err();
+        assert_eq!(
+            places(&Err(e)),
+            vec![(1, 1, "primitive sphere"), (3, 8, "    R= x")]
+        );
+        // Closed by the next header.
+        let text = "camera\n    O= 0 0 0\nprimitive sphere\n    R= 1\nend\n";
+        let e = same_in_chunks("closed by a header", text.as_bytes()).unwrap_err();
+        assert_eq!(places(&Err(e)), vec![(1, 1, "camera")]);
+    }
+
+    #[test]
+    fn text_after_end_and_last_lines_without_a_break() {
+        let text = "camera\nend and more\nprimitive sphere\n R= 1\nend   // done";
+        let s = same_in_chunks("after end", text.as_bytes()).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(places(&Ok(s)), vec![(2, 5, "end and more")]);
+        for (text, want) in [
+            (
+                "primitive sphere\n R= 1\nend\nprimitive cube",
+                (4, 1, "primitive cube"),
+            ),
+            ("primitive sphere\n R= x", (2, 5, " R= x")),
+            ("primitive sphere\n R= 1\nend\nend", (4, 1, "end")),
+            (
+                "primitive sphere\r\n R= 1\r\nend\r\nsphere\r",
+                (4, 1, "sphere"),
+            ),
+        ] {
+            let e = same_in_chunks(text, text.as_bytes()).unwrap_err();
+            let first = e
+                .errors()
+                .last()
+                .map(|d| (d.line, d.column, d.source_line.as_str()));
+            assert_eq!(first, Some(want), "{text:?}");
+        }
+        for text in ["", "\n", "\r\n\r\n", "\u{feff}", "  # nothing\n\n"] {
+            same_in_chunks(text, text.as_bytes()).unwrap_or_else(|e| panic!("{e}"));
+        }
+    }
+
+    #[test]
+    fn places_far_into_the_file() {
+        // 300 spheres, the 250th broken: checked against numbers, not only
+        // against the whole-text parse.
+        let mut text = String::new();
+        for k in 0..300 {
+            let r = if k == 249 { "oops" } else { "1" };
+            text += &format!("primitive sphere\n    O= {k} 0 0\n    R= {r}\nend\n");
+        }
+        let e = same_in_chunks("300 spheres", text.as_bytes()).unwrap_err();
+        assert_eq!(places(&Err(e)), vec![(249 * 4 + 3, 8, "    R= oops")]);
+        let s = same_in_chunks("300 spheres", text.replace("oops", "2").as_bytes())
+            .unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(s.objects.len(), 300);
+        assert_eq!(s.objects.last().and_then(|o| o.block), Some(299));
+    }
+
+    #[test]
+    fn a_block_read_again_leaves_no_trace() {
+        let mut r = Reader::new(None, Path::new("."));
+        let text = "primitive sphere\n R= 1\nend\nprimitive spere\n R= x\n";
+        let carry = r.feed(text, false);
+        assert_eq!(text.get(carry..), Some("primitive spere\n R= x\n"));
+        assert_eq!(
+            (r.line, r.diags.out.len(), r.diags.error_count()),
+            (3, 0, 0)
+        );
+    }
+
+    #[test]
+    fn a_difference_is_caught() {
+        let base = Path::new("tests/data");
+        let broken = parse_str(BROKEN, Some(mem_path()), base);
+        let Err(mut e) = broken.clone() else {
+            panic!("BROKEN parses")
+        };
+        assert_eq!(difference(&broken, &Err(e.clone())), None);
+        // A line number off by one.
+        if let Some(d) = e.diagnostics.get_mut(3) {
+            d.line += 1;
+        }
+        assert!(difference(&broken, &Err(e)).is_some());
+        let warned = parse_str(WARNED, Some(mem_path()), base);
+        let Ok(mut s) = warned.clone() else {
+            panic!("WARNED does not parse")
+        };
+        if let Some(d) = s.warnings.last_mut() {
+            d.source_line.push(' ');
+        }
+        assert!(difference(&warned, &Ok(s.clone())).is_some());
+        let Ok(mut s) = warned.clone() else { return };
+        s.objects.pop();
+        assert!(difference(&warned, &Ok(s)).is_some());
+    }
+
+    /// A reader that hands out `step` bytes at a time, failing or
+    /// interrupted as told.
+    struct Stuttering<'a> {
+        bytes: &'a [u8],
+        step: usize,
+        /// Fails with this once `bytes` is down to this many.
+        fail_at: Option<usize>,
+        interrupt: bool,
+    }
+
+    impl Read for Stuttering<'_> {
+        fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+            if self.fail_at.is_some_and(|n| self.bytes.len() <= n) {
+                return Err(io::Error::other("the disk is on fire"));
+            }
+            self.interrupt = !self.interrupt;
+            if self.interrupt {
+                return Err(io::ErrorKind::Interrupted.into());
+            }
+            let n = self.step.min(buf.len()).min(self.bytes.len());
+            let (now, rest) = self.bytes.split_at(n);
+            buf[..n].copy_from_slice(now);
+            self.bytes = rest;
+            Ok(n)
+        }
+    }
+
+    #[test]
+    fn short_and_interrupted_reads() {
+        let base = Path::new("tests/data");
+        let whole = parse_str(BROKEN, Some(mem_path()), base);
+        for step in [1, 3, 100] {
+            let input = Stuttering {
+                bytes: BROKEN.as_bytes(),
+                step,
+                fail_at: None,
+                interrupt: false,
+            };
+            let chunked = parse_chunked(input, mem_path(), base, 16);
+            assert_eq!(difference(&whole, &chunked), None, "step {step}");
+        }
+    }
+
+    #[test]
+    fn a_failed_read_is_an_error_about_the_file() {
+        let input = Stuttering {
+            bytes: WARNED.as_bytes(),
+            step: 10,
+            fail_at: Some(100),
+            interrupt: false,
+        };
+        let e = parse_chunked(input, mem_path(), Path::new("."), 64).unwrap_err();
+        let d = e.diagnostics.first();
+        assert_eq!(e.diagnostics.len(), 1);
+        assert_eq!(
+            d.map(|d| (d.severity, d.line, d.message.as_str(), d.file.as_str())),
+            Some((
+                Severity::Error,
+                0,
+                "cannot read the scene file: the disk is on fire",
+                "tests/data/mem.txt"
+            ))
+        );
+        // As when the file cannot be opened at all.
+        let e = parse_file(Path::new("tests/data/no such file.txt")).unwrap_err();
+        let d = e.diagnostics.first();
+        assert_eq!(e.diagnostics.len(), 1);
+        assert_eq!(
+            d.map(|d| (d.line, d.column, d.len, d.file.as_str())),
+            Some((0, 0, 0, "tests/data/no such file.txt"))
+        );
+    }
+
+    /// The `*.txt` scenes of `../shared/scenes/<folder>`.
+    fn shared_scenes(folder: &str) -> Vec<PathBuf> {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../shared/scenes")
+            .join(folder);
+        let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+            .unwrap_or_else(|e| panic!("cannot list {}: {e}", dir.display()))
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|x| x == "txt"))
+            .collect();
+        files.sort();
+        assert!(!files.is_empty(), "no scenes in {}", dir.display());
+        files
+    }
+
+    #[test]
+    fn shared_scenes_read_in_chunks() {
+        for path in ["framework", "community"].map(shared_scenes).concat() {
+            let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            let dir = path.parent().unwrap_or(Path::new("."));
+            let whole = parse_str(&String::from_utf8_lossy(&bytes), Some(&path), dir);
+            match &whole {
+                Ok(s) => assert!(!s.objects.is_empty(), "{}", path.display()),
+                Err(e) => panic!("{} does not parse: {e}", path.display()),
+            }
+            let from_file = Scene::from_file(&path);
+            if let Some(d) = difference(&whole, &from_file) {
+                panic!("{}: {d}", path.display());
+            }
+            for n in [1, 7, 64] {
+                let chunked = parse_chunked(&bytes[..], &path, dir, n);
+                if let Some(d) = difference(&whole, &chunked) {
+                    panic!("{}, chunks of {n} bytes: {d}", path.display());
+                }
+            }
+        }
     }
 }
