@@ -8,6 +8,8 @@ use std::cell::RefCell;
 const BINS: usize = 16;
 /// Leaves never hold more primitives than this.
 const MAX_LEAF: usize = 8;
+// The build's first pass keeps leaf sizes in a byte.
+const _: () = assert!(MAX_LEAF <= u8::MAX as usize);
 /// Cost of visiting an interior node (two box tests), relative to one
 /// primitive test.
 const TRAVERSAL_COST: f64 = 1.5;
@@ -16,12 +18,12 @@ const TRAVERSAL_COST: f64 = 1.5;
 const SAH_MAX_DEPTH: usize = 48;
 /// Traversal stack entries: more than SAH_MAX_DEPTH + 32 median levels (u32
 /// indices); a power of two so masked indices need no bounds check.
-const STACK_SIZE: usize = 128;
+pub(crate) const STACK_SIZE: usize = 128;
 /// Subtrees with at least this many primitives build their halves in parallel.
 const PARALLEL_MIN: usize = 4096;
 /// Relative slack on the far distance of a box test: absorbs the rounding
 /// of the slab arithmetic and of the primitive tests, so no hit is lost.
-const FAR_SLACK: f64 = 1.0 + 1.0 / (1u64 << 30) as f64;
+pub(crate) const FAR_SLACK: f64 = 1.0 + 1.0 / (1u64 << 30) as f64;
 /// Relative padding of primitive boxes, of their size plus their distance
 /// from the origin (what the rounding errors of the primitive tests scale
 /// with), applied before rounding them outward to f32.
@@ -156,20 +158,25 @@ pub(crate) struct Bvh {
 
 impl Bvh {
     /// Builds the tree over `items`; the result does not depend on the
-    /// number of threads.
+    /// number of threads, and the build needs little beyond the items and
+    /// the final arrays.
     pub(crate) fn build(mut items: Vec<Item>) -> Bvh {
-        let n = items.len();
-        if n == 0 {
+        if items.is_empty() {
             return Bvh::default();
         }
+        // Two passes keep the peak at the items plus the final arrays: the
+        // first splits and keeps only the tree's shape (a byte a node), the
+        // second writes the nodes, boxes from the items, into an array of
+        // exactly their size. (Keeping the leaves' boxes instead, to free the
+        // items sooner, peaks higher: freed in small blocks, they stay resident.)
         let ext = Extents::of(&items);
-        // Slot 0 stays unused: the root is returned, its descendants start at 1.
-        let mut slots = vec![Node::default(); 2 * n - 1];
-        let (root, count) = build_node(&mut items, 0, ext, 0, &mut slots[1..], 1);
-        // The items go before the compact copy is made: a lower peak.
+        let plan = plan(&mut items, &ext, 0);
+        // Pair 0 holds the root (its sibling slot is unused); its descendants follow.
+        let mut pairs = vec![Pair::default(); 1 + plan.pairs()];
+        let (head, rest) = pairs.split_at_mut(1);
+        head[0].0[0] = lay_out(&plan, &items, 0, rest, 1);
+        drop(plan);
         let prims = items.iter().map(|it| it.index).collect();
-        drop(items);
-        let pairs = compact(root, &slots, count);
         Bvh { pairs, prims }
     }
 
@@ -295,7 +302,7 @@ thread_local! {
 }
 
 /// What [`RayBox::entry`] returns for a box the ray misses.
-const MISS: f64 = f64::INFINITY;
+pub(crate) const MISS: f64 = f64::INFINITY;
 
 /// A ray prepared for box tests.
 #[derive(Clone, Copy, Debug)]
@@ -389,91 +396,178 @@ impl Extents {
     }
 }
 
-/// Builds the subtree over `items` (the first is primitive `offset` of the
-/// final order, `ext` their extents) and returns its root and node count.
-///
-/// Its descendants go into `desc`, whose first slot has index `base`: a
-/// subtree over n items has at most 2n − 2 descendants, so each subtree gets
-/// exactly that many slots and the two halves of a split can be built on
-/// different threads without sharing anything.
-fn build_node(
-    items: &mut [Item],
-    offset: u32,
-    ext: Extents,
-    depth: usize,
-    desc: &mut [Node],
-    base: u32,
-) -> (Node, usize) {
-    let n = items.len();
-    let Some((mid, left_ext, right_ext)) = split(items, &ext, depth) else {
-        let leaf = Node {
-            bounds: ext.bounds,
-            start: offset,
-            count: n as u32,
-        };
-        return (leaf, 1);
-    };
-    let (pair, rest) = desc.split_at_mut(2);
-    let (left_desc, right_desc) = rest.split_at_mut(2 * mid - 2);
-    let (left, right) = items.split_at_mut(mid);
-    let left_base = base + 2;
-    let right_base = left_base + 2 * mid as u32 - 2;
-    let right_offset = offset + mid as u32;
-    let ((l, nl), (r, nr)) = if n >= PARALLEL_MIN {
-        rayon::join(
-            || build_node(left, offset, left_ext, depth + 1, left_desc, left_base),
-            || {
-                build_node(
-                    right,
-                    right_offset,
-                    right_ext,
-                    depth + 1,
-                    right_desc,
-                    right_base,
-                )
-            },
-        )
-    } else {
-        (
-            build_node(left, offset, left_ext, depth + 1, left_desc, left_base),
-            build_node(
-                right,
-                right_offset,
-                right_ext,
-                depth + 1,
-                right_desc,
-                right_base,
-            ),
-        )
-    };
-    pair[0] = l;
-    pair[1] = r;
-    let interior = Node {
-        bounds: ext.bounds,
-        start: base,
-        count: 0,
-    };
-    (interior, 1 + nl + nr)
+/// The shape of a subtree, decided by the first pass of the build: which
+/// items go where and which nodes are leaves, but no boxes yet.
+#[derive(Debug)]
+enum Plan {
+    /// A subtree planned on one thread.
+    Flat(FlatPlan),
+    /// An interior node whose halves were planned in parallel.
+    Split {
+        /// Items of the left half (they come first).
+        mid: usize,
+        /// The left and right halves.
+        halves: Box<(Plan, Plan)>,
+        /// Interior nodes, so pairs, of the subtree.
+        pairs: usize,
+    },
 }
 
-/// The nodes reachable from `root` (children in `slots`), without the
-/// unused slots, as sibling pairs in depth-first order.
-fn compact(root: Node, slots: &[Node], count: usize) -> Vec<Pair> {
-    let mut out = Vec::with_capacity(count.div_ceil(2));
-    out.push(Pair([root, Node::default()]));
-    let mut todo = vec![0u32];
-    while let Some(k) = todo.pop() {
-        let (p, c) = (k as usize >> 1, k as usize & 1);
-        if out[p].0[c].count == 0 {
-            let s = out[p].0[c].start as usize;
-            let first = 2 * out.len() as u32;
-            out.push(Pair([slots[s], slots[s + 1]]));
-            out[p].0[c].start = first;
-            todo.push(first + 1);
-            todo.push(first);
+/// A subtree planned on one thread, node by node in depth-first order.
+#[derive(Debug, Default)]
+struct FlatPlan {
+    /// Per node: 0 for an interior node, else the leaf's primitive count.
+    shape: Vec<u8>,
+    /// Interior nodes, so pairs, of the subtree.
+    pairs: usize,
+}
+
+impl Plan {
+    /// Interior nodes of the subtree: the pairs its descendants fill.
+    fn pairs(&self) -> usize {
+        match self {
+            Plan::Flat(flat) => flat.pairs,
+            Plan::Split { pairs, .. } => *pairs,
         }
     }
-    out
+}
+
+/// Plans the subtree over `items` (`ext` their extents), reordering them
+/// into their final order; halves of at least [`PARALLEL_MIN`] items are
+/// planned in parallel.
+fn plan(items: &mut [Item], ext: &Extents, depth: usize) -> Plan {
+    if items.len() >= PARALLEL_MIN
+        && let Some((mid, left_ext, right_ext)) = split(items, ext, depth)
+    {
+        let (left, right) = items.split_at_mut(mid);
+        let halves = rayon::join(
+            || plan(left, &left_ext, depth + 1),
+            || plan(right, &right_ext, depth + 1),
+        );
+        return Plan::Split {
+            mid,
+            pairs: 1 + halves.0.pairs() + halves.1.pairs(),
+            halves: Box::new(halves),
+        };
+    }
+    let mut flat = FlatPlan::default();
+    plan_flat(items, ext, depth, &mut flat);
+    Plan::Flat(flat)
+}
+
+/// Plans the subtree over `items` on this thread, appending its nodes to `flat`.
+fn plan_flat(items: &mut [Item], ext: &Extents, depth: usize, flat: &mut FlatPlan) {
+    match split(items, ext, depth) {
+        // A leaf holds 1 to MAX_LEAF items (split never leaves more in one):
+        // the count fits a u8 and is never 0.
+        None => flat.shape.push(items.len() as u8),
+        Some((mid, left_ext, right_ext)) => {
+            flat.shape.push(0);
+            flat.pairs += 1;
+            let (left, right) = items.split_at_mut(mid);
+            plan_flat(left, &left_ext, depth + 1, flat);
+            plan_flat(right, &right_ext, depth + 1, flat);
+        }
+    }
+}
+
+/// Writes the subtree planned by `plan` over `items` (the first is primitive
+/// `offset` of the final order) and returns its root: the pairs of its
+/// interior nodes go, depth-first, into `out`, whose first pair has index `base`.
+///
+/// A node's box is the union of its items' boxes: the same values the split
+/// computed. `out` holds exactly the subtree's pairs, so halves planned in
+/// parallel are written in parallel.
+fn lay_out(plan: &Plan, items: &[Item], offset: u32, out: &mut [Pair], base: u32) -> Node {
+    match plan {
+        Plan::Flat(flat) => {
+            let mut writer = FlatWriter {
+                plan: flat,
+                next_node: 0,
+                items,
+                next_item: 0,
+                offset,
+                out,
+                next_pair: 0,
+                base,
+            };
+            writer.node()
+        }
+        Plan::Split { mid, halves, .. } => {
+            let (left_plan, right_plan) = &**halves;
+            let (head, rest) = out.split_at_mut(1);
+            let (left_out, right_out) = rest.split_at_mut(left_plan.pairs());
+            let (left_items, right_items) = items.split_at(*mid);
+            let left_base = base + 1;
+            let right_base = left_base + left_plan.pairs() as u32;
+            let right_offset = offset + *mid as u32;
+            let (l, r) = rayon::join(
+                || lay_out(left_plan, left_items, offset, left_out, left_base),
+                || lay_out(right_plan, right_items, right_offset, right_out, right_base),
+            );
+            head[0] = Pair([l, r]);
+            interior(&l, &r, base)
+        }
+    }
+}
+
+/// The interior node over children `l` and `r`, whose pair has index `pair`.
+#[inline]
+fn interior(l: &Node, r: &Node, pair: u32) -> Node {
+    let mut bounds = l.bounds;
+    union(&mut bounds, &r.bounds);
+    Node {
+        bounds,
+        start: 2 * pair,
+        count: 0,
+    }
+}
+
+/// Writes the nodes of a [`FlatPlan`], depth-first.
+struct FlatWriter<'a> {
+    /// The plan.
+    plan: &'a FlatPlan,
+    /// Next entry of the plan's shape.
+    next_node: usize,
+    /// The subtree's items, in final order.
+    items: &'a [Item],
+    /// First item of the next leaf.
+    next_item: usize,
+    /// Index of the subtree's first primitive in the final order.
+    offset: u32,
+    /// The subtree's pairs.
+    out: &'a mut [Pair],
+    /// Next unwritten pair of `out`.
+    next_pair: usize,
+    /// Index of `out[0]` in the whole tree.
+    base: u32,
+}
+
+impl FlatWriter<'_> {
+    /// Writes the next node's subtree and returns the node.
+    fn node(&mut self) -> Node {
+        let code = self.plan.shape[self.next_node] as usize;
+        self.next_node += 1;
+        if code > 0 {
+            let first = self.next_item;
+            self.next_item += code;
+            let mut bounds = EMPTY;
+            for it in &self.items[first..first + code] {
+                union(&mut bounds, &it.bounds);
+            }
+            return Node {
+                bounds,
+                start: self.offset + first as u32,
+                count: code as u32,
+            };
+        }
+        let p = self.next_pair;
+        self.next_pair += 1;
+        let l = self.node();
+        let r = self.node();
+        self.out[p] = Pair([l, r]);
+        interior(&l, &r, self.base + p as u32)
+    }
 }
 
 /// Bin accumulator.
@@ -716,10 +810,10 @@ mod tests {
         Ok(())
     }
 
-    #[test]
-    fn depth_stays_within_the_stack() {
-        // Centroids at 2^k: each SAH split peels off only the largest few.
-        let items: Vec<Item> = (-120..99)
+    /// Centroids at 2^k: each SAH split peels off only the largest few, so
+    /// the tree gets deeper than [`SAH_MAX_DEPTH`].
+    fn deep_items() -> Vec<Item> {
+        (-120..99)
             .flat_map(|k| {
                 let x = 2f64.powi(k);
                 [DVec3::new(x, 0.0, 0.0), DVec3::new(0.0, -x, 0.0)]
@@ -732,7 +826,12 @@ mod tests {
                 )
             })
             .collect::<Option<_>>()
-            .unwrap_or_default();
+            .unwrap_or_default()
+    }
+
+    #[test]
+    fn depth_stays_within_the_stack() {
+        let items = deep_items();
         assert_eq!(items.len(), 2 * 219, "every box is finite");
         let n = items.len();
         let bvh = Bvh::build(items);
@@ -742,6 +841,176 @@ mod tests {
             "the median fallback is not exercised"
         );
         assert!(depth < STACK_SIZE);
+    }
+
+    /// The build as it was before the two-pass one (every subtree got its
+    /// worst-case 2n − 2 slots, then the used ones were copied out), kept to
+    /// check that the tree did not change.
+    mod slot_build {
+        use super::super::*;
+
+        /// The tree over `items` as the slot build made it.
+        pub(super) fn build(mut items: Vec<Item>) -> Bvh {
+            let n = items.len();
+            if n == 0 {
+                return Bvh::default();
+            }
+            let ext = Extents::of(&items);
+            let mut slots = vec![Node::default(); 2 * n - 1];
+            let (root, count) = build_node(&mut items, 0, ext, 0, &mut slots[1..], 1);
+            let prims = items.iter().map(|it| it.index).collect();
+            let pairs = compact(root, &slots, count);
+            Bvh { pairs, prims }
+        }
+
+        /// Builds the subtree over `items` (the first is primitive `offset` of the
+        /// final order, `ext` their extents) and returns its root and node count.
+        ///
+        /// Its descendants go into `desc`, whose first slot has index `base`: a
+        /// subtree over n items has at most 2n − 2 descendants, so each subtree gets
+        /// exactly that many slots and the two halves of a split can be built on
+        /// different threads without sharing anything.
+        fn build_node(
+            items: &mut [Item],
+            offset: u32,
+            ext: Extents,
+            depth: usize,
+            desc: &mut [Node],
+            base: u32,
+        ) -> (Node, usize) {
+            let n = items.len();
+            let Some((mid, left_ext, right_ext)) = split(items, &ext, depth) else {
+                let leaf = Node {
+                    bounds: ext.bounds,
+                    start: offset,
+                    count: n as u32,
+                };
+                return (leaf, 1);
+            };
+            let (pair, rest) = desc.split_at_mut(2);
+            let (left_desc, right_desc) = rest.split_at_mut(2 * mid - 2);
+            let (left, right) = items.split_at_mut(mid);
+            let left_base = base + 2;
+            let right_base = left_base + 2 * mid as u32 - 2;
+            let right_offset = offset + mid as u32;
+            let ((l, nl), (r, nr)) = if n >= PARALLEL_MIN {
+                rayon::join(
+                    || build_node(left, offset, left_ext, depth + 1, left_desc, left_base),
+                    || {
+                        build_node(
+                            right,
+                            right_offset,
+                            right_ext,
+                            depth + 1,
+                            right_desc,
+                            right_base,
+                        )
+                    },
+                )
+            } else {
+                (
+                    build_node(left, offset, left_ext, depth + 1, left_desc, left_base),
+                    build_node(
+                        right,
+                        right_offset,
+                        right_ext,
+                        depth + 1,
+                        right_desc,
+                        right_base,
+                    ),
+                )
+            };
+            pair[0] = l;
+            pair[1] = r;
+            let interior = Node {
+                bounds: ext.bounds,
+                start: base,
+                count: 0,
+            };
+            (interior, 1 + nl + nr)
+        }
+
+        /// The nodes reachable from `root` (children in `slots`), without the
+        /// unused slots, as sibling pairs in depth-first order.
+        fn compact(root: Node, slots: &[Node], count: usize) -> Vec<Pair> {
+            let mut out = Vec::with_capacity(count.div_ceil(2));
+            out.push(Pair([root, Node::default()]));
+            let mut todo = vec![0u32];
+            while let Some(k) = todo.pop() {
+                let (p, c) = (k as usize >> 1, k as usize & 1);
+                if out[p].0[c].count == 0 {
+                    let s = out[p].0[c].start as usize;
+                    let first = 2 * out.len() as u32;
+                    out.push(Pair([slots[s], slots[s + 1]]));
+                    out[p].0[c].start = first;
+                    todo.push(first + 1);
+                    todo.push(first);
+                }
+            }
+            out
+        }
+    }
+
+    /// Every field of every node, bounds as bits. (The boxes are now unions
+    /// taken in another order: equal values, but a zero bound could change
+    /// sign; the inputs here have none.)
+    fn node_bits(bvh: &Bvh) -> Vec<[u32; 8]> {
+        let bits = |n: &Node| {
+            let b = n.bounds.map(f32::to_bits);
+            [b[0], b[1], b[2], b[3], b[4], b[5], n.start, n.count]
+        };
+        bvh.pairs
+            .iter()
+            .flat_map(|p| [bits(&p.0[0]), bits(&p.0[1])])
+            .collect()
+    }
+
+    /// Equal unit boxes centred on 7 points of a line `spread` apart (all
+    /// at one point for 0): centroids the SAH cannot separate.
+    fn degenerate_items(n: usize, spread: f64) -> Vec<Item> {
+        (0..n)
+            .filter_map(|i| {
+                let c = DVec3::new(1.0 + spread * (i % 7) as f64, 2.0, 3.0);
+                Item::new(i as u32, &Aabb::from_points(c - 0.5, c + 0.5))
+            })
+            .collect()
+    }
+
+    #[test]
+    fn same_tree_as_the_slot_build() -> Result<(), rayon::ThreadPoolBuildError> {
+        let cases = [
+            sphere_items(0, 2),
+            sphere_items(1, 2),
+            sphere_items(2, 3),
+            sphere_items(9, 4),
+            sphere_items(1000, 5),
+            sphere_items(PARALLEL_MIN - 1, 6),
+            sphere_items(PARALLEL_MIN, 7),
+            sphere_items(70_000, 8),
+            degenerate_items(10_000, 0.0),
+            degenerate_items(10_000, 1e-3),
+            deep_items(),
+        ];
+        for threads in [1, 2] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()?;
+            for items in &cases {
+                let (new, old) =
+                    pool.install(|| (Bvh::build(items.clone()), slot_build::build(items.clone())));
+                let n = items.len();
+                assert_eq!(new.pairs, old.pairs, "{n} items, {threads} threads");
+                assert_eq!(node_bits(&new), node_bits(&old), "{n} items");
+                assert_eq!(new.prims, old.prims, "{n} items");
+                // The arrays are allocated at exactly their size.
+                assert_eq!(new.pairs.capacity(), new.pairs.len());
+                assert_eq!(new.prims.capacity(), n);
+                if n > 0 {
+                    depth_and_coverage(&new, n);
+                }
+            }
+        }
+        Ok(())
     }
 
     #[test]
