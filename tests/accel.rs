@@ -408,6 +408,88 @@ fn small_random_all_kinds_scenes_match_brute_force() {
     }
 }
 
+/// A packet of rays of one of the shapes the renderer makes and some it
+/// does not: a camera tile (one origin, a grid of directions, narrow or
+/// wide), one origin with directions of every sign (zeros included), or
+/// unrelated rays; 1 to 100 rays, so packets longer than one are split.
+fn random_packet(rng: &mut Pcg64, objects: &[Object], half: f64) -> Vec<Ray> {
+    let n = rng.random_range(1..=100usize);
+    match rng.random_range(0..3u32) {
+        0 => {
+            let aim = random_ray(rng, objects, half);
+            let (u, v) = frame(rng);
+            let spread = log_size(rng, 1e-6, 0.5);
+            let side = (n as f64).sqrt().ceil() as usize;
+            (0..n)
+                .map(|k| {
+                    let (a, b) = ((k % side) as f64, (k / side) as f64);
+                    let d = aim.dir + (u * a + v * b) * (spread / side as f64);
+                    Ray::new(aim.origin, d.normalize())
+                })
+                .collect()
+        }
+        1 => {
+            let o = point_in(rng, half);
+            (0..n)
+                .map(|_| {
+                    let d = if rng.random_bool(0.2) {
+                        axis_direction(rng)
+                    } else {
+                        unit_vector(rng)
+                    };
+                    Ray::new(o, d)
+                })
+                .collect()
+        }
+        _ => (0..n).map(|_| random_ray(rng, objects, half)).collect(),
+    }
+}
+
+/// Packet queries against brute force, ray by ray: the nearest hit.
+/// Returns the rays that hit something and all rays.
+fn check_packets(objects: &[Object], packets: usize, half: f64, seed: u64) -> (usize, usize) {
+    let accel = Accel::build(objects);
+    let mut rng = Pcg64::seed_from_u64(seed);
+    let mut hits = 0;
+    let mut rays_seen = 0;
+    for p in 0..packets {
+        let rays = random_packet(&mut rng, objects, half);
+        let mut got = vec![None; rays.len()];
+        accel.intersect_packet(&rays, &mut got);
+        let expected: Vec<_> = rays
+            .iter()
+            .map(|r| brute_intersect(objects, r, f64::INFINITY))
+            .collect();
+        assert_eq!(got, expected, "packet {p}: {rays:?}");
+        hits += expected.iter().flatten().count();
+        rays_seen += rays.len();
+    }
+    (hits, rays_seen)
+}
+
+#[test]
+fn packets_match_brute_force() {
+    let mut rng = Pcg64::seed_from_u64(31);
+    let objects = all_kinds_scene(&mut rng, 250, 2);
+    let (hits, rays) = check_packets(&objects, 300, 14.0, 32);
+    // Guards against a generator that misses everything (vacuous test).
+    assert!(hits * 10 >= rays, "only {hits} of {rays} rays hit");
+    for n in 0..30 {
+        let objects = all_kinds_scene(&mut rng, n / 2, n % 3);
+        check_packets(&objects, 20, 14.0, 300 + n as u64);
+    }
+}
+
+#[test]
+fn packets_in_a_dense_cloud_match_single_queries() {
+    // Many small spheres and no planes: deep trees, where a packet's
+    // rays part ways and rejoin.
+    let mut rng = Pcg64::seed_from_u64(35);
+    let objects = mixed_scene(&mut rng, 20_000, 0, 0);
+    let (hits, rays) = check_packets(&objects, 150, 14.0, 36);
+    assert!(hits * 2 >= rays, "only {hits} of {rays} rays hit");
+}
+
 #[test]
 fn coincident_boxes_tie_to_lowest_index() {
     // Each box three times over, as a cube, as six squares and as a cube

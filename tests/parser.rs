@@ -191,7 +191,7 @@ fn material_keys_all_reach_their_fields() {
 end
 ");
     assert!(s.warnings.is_empty(), "{:?}", s.warnings);
-    let m = &s.materials[s.objects[0].material as usize];
+    let m = s.material(s.objects[0].material);
     assert_eq!(m.color, v(0.1, 0.2, 0.3));
     assert_eq!((m.diff, m.spec, m.refl, m.drefl), (0.4, 0.5, 0.6, 0.7));
     assert_eq!((m.refr, m.rindex), (0.8, 1.5));
@@ -206,7 +206,7 @@ end
 #[test]
 fn material_defaults_are_zero() {
     let s = ok("primitive sphere\n R= 1\nend");
-    let m = &s.materials[s.objects[0].material as usize];
+    let m = s.material(s.objects[0].material);
     assert_eq!(m.color, DVec3::ZERO);
     assert_eq!(
         (m.diff, m.spec, m.refl, m.drefl, m.refr, m.rindex),
@@ -459,7 +459,9 @@ primitive square\n Dx= 1 0 0\n Dy= 0 1 0\nend
     // material, share it; the others keep their own.
     let materials: Vec<_> = s.objects.iter().map(|o| o.material).collect();
     assert_eq!(materials, vec![0, 1, 2, 2]);
-    assert_eq!(s.materials.len(), 3);
+    assert_eq!(s.material_count(), 3);
+    // The light's surface differs only in colour: all share one finish.
+    assert_eq!(s.finish_count(), 1);
 }
 
 #[test]
@@ -467,13 +469,106 @@ fn only_equal_materials_are_shared() {
     let sphere =
         |color: &str| format!("primitive sphere\n R= 1\n color= {color}\n diff= 0.5\nend\n");
     let s = ok(&(sphere("1 0 0") + &sphere("1 0 0") + &sphere("0 1 0") + &sphere("1 0 0")));
+    // A whole material is shared only with the one just before it ...
     let materials: Vec<_> = s.objects.iter().map(|o| o.material).collect();
     assert_eq!(materials, vec![0, 0, 1, 2]);
-    let colors: Vec<_> = s.materials.iter().map(|m| m.color).collect();
+    let colors: Vec<_> = s.materials().map(|m| m.color).collect();
     assert_eq!(
         colors,
         vec![v(1.0, 0.0, 0.0), v(0.0, 1.0, 0.0), v(1.0, 0.0, 0.0)]
     );
+    // ... its keys other than the colour with every other.
+    assert_eq!(s.finish_count(), 1);
+    assert!(s.materials().all(|m| m.diff == 0.5));
+}
+
+/// A sphere block with the given colour and other material keys.
+fn sphere_with(color: &str, keys: &str) -> String {
+    format!("primitive sphere\n R= 1\n color= {color}\n{keys}end\n")
+}
+
+#[test]
+fn equal_finishes_far_apart_in_the_file_are_shared() {
+    let glass = " refr= 0.9\n rindex= 1.5\n absor= 0.1 0.2 0.3\n spec= 0.25\n";
+    let mut text = sphere_with("1 0 0", glass);
+    for i in 0..50 {
+        text += &sphere_with(&format!("0 {} 0", i as f64 / 50.0), " diff= 0.7\n");
+        text += "primitive plane\n N= 0 0 1\n refl= 0.5\n drefl= 0.1\nend\n";
+    }
+    text += &sphere_with("0 0 1", glass);
+    let s = ok(&text);
+    assert_eq!(s.objects.len(), 102);
+    assert_eq!(s.finish_count(), 3);
+    // Every sphere and plane its own material: the colours alternate.
+    assert_eq!(s.material_count(), 102);
+    let first = s.material(s.objects[0].material);
+    let last = s.material(s.objects[101].material);
+    assert_eq!(
+        (first.color, last.color),
+        (v(1.0, 0.0, 0.0), v(0.0, 0.0, 1.0))
+    );
+    for m in [first, last] {
+        assert_eq!((m.refr, m.rindex, m.spec), (0.9, 1.5, 0.25));
+        assert_eq!(m.absor, v(0.1, 0.2, 0.3));
+        assert_eq!((m.diff, m.refl, m.drefl, m.texture), (0.0, 0.0, 0.0, None));
+    }
+    let plane = s.material(s.objects[100].material);
+    assert_eq!((plane.refl, plane.drefl, plane.diff), (0.5, 0.1, 0.0));
+}
+
+#[test]
+fn different_colours_with_one_finish_cost_one_finish() {
+    let colors: Vec<_> = (0..300)
+        .map(|i| v(i as f64 / 300.0, 1.0 - i as f64 / 300.0, 0.5))
+        .collect();
+    let text: String = colors
+        .iter()
+        .map(|c| {
+            sphere_with(
+                &format!("{} {} {}", c.x, c.y, c.z),
+                " diff= 0.9\n spec= 0.1\n",
+            )
+        })
+        .collect();
+    let s = ok(&text);
+    assert_eq!((s.material_count(), s.finish_count()), (300, 1));
+    for (o, c) in s.objects.iter().zip(&colors) {
+        let m = s.material(o.material);
+        assert_eq!((m.color, m.diff, m.spec), (*c, 0.9, 0.1));
+    }
+}
+
+#[test]
+fn textured_and_untextured_materials_never_share() {
+    let s = ok(&(sphere_with("1 1 1", " diff= 0.5\n texture= tiny.bmp\n")
+        + &sphere_with("1 1 1", " diff= 0.5\n")
+        + &sphere_with("0 1 1", " diff= 0.5\n texture= tiny.bmp\n")
+        + &sphere_with("0 1 1", " diff= 0.5\n")));
+    assert_eq!(s.finish_count(), 2);
+    assert_eq!(s.material_count(), 4);
+    let textures: Vec<_> = s
+        .objects
+        .iter()
+        .map(|o| s.material(o.material).texture)
+        .collect();
+    assert_eq!(textures, vec![Some(0), None, Some(0), None]);
+}
+
+#[test]
+fn sharing_is_bit_exact_so_minus_zero_keeps_its_sign() {
+    // -0 == 0 as numbers, but 1/-0 is -inf: nothing is shared that is not
+    // the same bits, so every value is the one the file gave.
+    let s = ok(&(sphere_with("0 0 0", " diff= 0\n")
+        + &sphere_with("-0 0 0", " diff= 0\n")
+        + &sphere_with("-0 0 0", " diff= -0\n")
+        + &sphere_with("-0 0 0", " diff= 0\n")));
+    let materials: Vec<_> = s.objects.iter().map(|o| o.material).collect();
+    assert_eq!(materials, vec![0, 1, 2, 3]);
+    assert_eq!(s.finish_count(), 2);
+    let m: Vec<_> = s.materials().collect();
+    assert!(m[0].color.x.is_sign_positive() && m[1].color.x.is_sign_negative());
+    assert!(m[1].diff.is_sign_positive() && m[2].diff.is_sign_negative());
+    assert!(m[3].diff.is_sign_positive());
 }
 
 // ---------------------------------------------------------------- lexical
@@ -608,7 +703,7 @@ end");
         panic!("not a sphere")
     };
     assert_eq!((sp.center, sp.radius), (DVec3::ONE, 2.0));
-    let m = &s.materials[0];
+    let m = s.material(0);
     assert_eq!((m.color, m.diff), (DVec3::Z, 0.9));
     assert!(s.warnings.is_empty());
 }
@@ -940,10 +1035,10 @@ fn refraction_without_index_uses_one() {
     let text = "primitive sphere\n R= 1\n refr= 1\nend";
     let d = warning_at(text, 3, 2);
     assert!(d.message.contains("rindex"), "{d}");
-    assert_eq!(ok(text).materials[0].rindex, 1.0);
+    assert_eq!(ok(text).material(0).rindex, 1.0);
     let text = "primitive sphere\n R= 1\n rindex= -2\n refr= 0.5\nend";
     warning_at(text, 3, 2);
-    assert_eq!(ok(text).materials[0].rindex, 1.0);
+    assert_eq!(ok(text).material(0).rindex, 1.0);
     // Without refraction the index does not matter.
     assert!(
         ok("primitive sphere\n R= 1\n rindex= 0\nend")
@@ -1038,7 +1133,7 @@ fn identical_texture_paths_are_decoded_once() {
 primitive sphere\n R= 2\n texture= ./tiny.bmp\nend
 primitive plane\n N= 0 0 1\n texture= tiny.bmp\nend");
     assert_eq!(s.textures.len(), 1);
-    assert!(s.materials.iter().all(|m| m.texture == Some(0)));
+    assert!(s.materials().all(|m| m.texture == Some(0)));
 }
 
 #[test]
@@ -1134,12 +1229,12 @@ fn scene1_in_detail() {
     assert_eq!(s.textures.len(), 2);
     let blocks: Vec<_> = s.objects.iter().map(|o| o.block.unwrap()).collect();
     assert_eq!(blocks, vec![0, 1, 2, 3, 4, 5]);
-    let glass = &s.materials[s.objects[0].material as usize];
+    let glass = s.material(s.objects[0].material);
     assert_eq!(
         (glass.refr, glass.rindex, glass.absor),
         (1.0, 1.7, DVec3::Z)
     );
-    let floor = &s.materials[s.objects[4].material as usize];
+    let floor = s.material(s.objects[4].material);
     assert!(floor.texture.is_some());
     assert!(s.notes.iter().any(|n| n.contains("floor.bmp")));
 }
@@ -1157,7 +1252,7 @@ fn scene_stacks_bezier() {
         panic!("no bezier");
     };
     assert_eq!(b.points.len(), 4);
-    let m = &s.materials[s.objects.last().unwrap().material as usize];
+    let m = s.material(s.objects.last().unwrap().material);
     // `refl=` appears twice; the later 0 wins.
     assert_eq!(m.refl, 0.0);
 }

@@ -7,11 +7,12 @@
 //! order: same object, same hit.
 
 mod bvh;
+mod packet;
 
 use crate::geometry::{Hit, Ray};
 use crate::scene::Object;
 use bvh::{Bvh, Item};
-use rayon::prelude::*;
+pub use packet::PACKET_MAX;
 
 /// Answers ray queries over a list of objects.
 pub struct Accel<'a> {
@@ -24,11 +25,15 @@ pub struct Accel<'a> {
 impl<'a> Accel<'a> {
     /// Builds the structure over `objects` (indices into it are returned by queries).
     pub fn build(objects: &'a [Object]) -> Self {
-        let items: Vec<Item> = objects
-            .par_iter()
-            .enumerate()
-            .filter_map(|(i, o)| Item::new(i as u32, &o.shape.bounds()?))
-            .collect();
+        // Sequential, into one exact allocation: a parallel collect goes
+        // through temporary pieces that can stay resident and raise the peak.
+        let mut items = Vec::with_capacity(objects.len());
+        items.extend(
+            objects
+                .iter()
+                .enumerate()
+                .filter_map(|(i, o)| Item::new(i as u32, &o.shape.bounds()?)),
+        );
         // The objects left out, in order: the gaps between the items' indices.
         let mut unbounded = Vec::new();
         let mut next = 0;
@@ -53,31 +58,34 @@ impl<'a> Accel<'a> {
     pub fn intersect(&self, ray: &Ray, t_max: f64) -> Option<(u32, Hit)> {
         let mut best: Option<(u32, Hit)> = None;
         let mut t_best = t_max;
-        let mut test = |i: u32, t_best: &mut f64| {
-            // A lower index also wins a tie, so the answer does not depend on
-            // the visiting order.
-            let limit = match best {
-                Some((b, _)) if i < b => t_best.next_up(),
-                _ => *t_best,
-            };
-            if let Some(h) = self.objects[i as usize]
-                .shape
-                .intersect(ray, ray.t_min, limit)
-            {
-                *t_best = h.t;
-                best = Some((i, h));
-            }
-        };
         for &i in &self.unbounded {
-            test(i, &mut t_best);
+            self.test(i, ray, &mut best, &mut t_best);
         }
         self.bvh.traverse(ray, &mut t_best, |prims, t_best| {
             for &i in prims {
-                test(i, t_best);
+                self.test(i, ray, &mut best, t_best);
             }
             false
         });
         best
+    }
+
+    /// Tests object `i` against `ray`, keeping in `best` (at `t_best`) the
+    /// nearer hit; of two at the same distance the lower index wins, so the
+    /// answer does not depend on the order objects are tested in.
+    #[inline(always)]
+    fn test(&self, i: u32, ray: &Ray, best: &mut Option<(u32, Hit)>, t_best: &mut f64) {
+        let limit = match *best {
+            Some((b, _)) if i < b => t_best.next_up(),
+            _ => *t_best,
+        };
+        if let Some(h) = self.objects[i as usize]
+            .shape
+            .intersect(ray, ray.t_min, limit)
+        {
+            *t_best = h.t;
+            *best = Some((i, h));
+        }
     }
 
     /// Whether anything lies on the ray with `ray.t_min` < t < `t_max`, not counting
@@ -96,11 +104,7 @@ impl<'a> Accel<'a> {
         ignore_light: Option<u32>,
         hint: &mut Option<u32>,
     ) -> bool {
-        let blocks = |i: u32| {
-            let o = &self.objects[i as usize];
-            (o.light.is_none() || o.light != ignore_light)
-                && o.shape.intersect(ray, ray.t_min, t_max).is_some()
-        };
+        let blocks = |i: u32| self.blocks(i, ray, t_max, ignore_light);
         if hint.is_some_and(blocks) {
             return true;
         }
@@ -118,6 +122,15 @@ impl<'a> Accel<'a> {
             *hint = blocker;
         }
         blocker.is_some()
+    }
+
+    /// Whether object `i` lies on the ray with `ray.t_min` < t < `t_max`
+    /// and is not the visible surface of light `ignore_light`.
+    #[inline(always)]
+    fn blocks(&self, i: u32, ray: &Ray, t_max: f64, ignore_light: Option<u32>) -> bool {
+        let o = &self.objects[i as usize];
+        (o.light.is_none() || o.light != ignore_light)
+            && o.shape.intersect(ray, ray.t_min, t_max).is_some()
     }
 
     /// Nodes in the hierarchy (for statistics).

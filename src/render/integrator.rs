@@ -1,7 +1,7 @@
 //! The framework's shading model (spec: "Shading model"), computed exactly.
 
-use crate::accel::Accel;
-use crate::geometry::{Ray, offset_origin};
+use crate::accel::{Accel, PACKET_MAX};
+use crate::geometry::{Hit, Ray, offset_origin};
 use crate::scene::{LightKind, Scene};
 use crate::shading::shade_factor;
 use glam::DVec3;
@@ -89,17 +89,50 @@ impl<'a> Tracer<'a> {
         self.trace(ray, 1, st, Some(hash))
     }
 
+    /// [`Tracer::trace_camera`] for a packet of camera rays (a tile's), whose
+    /// nearest hits are found together: colours into `out`, each exactly
+    /// what [`Tracer::trace_camera`] gives.
+    pub fn trace_camera_packet(
+        &self,
+        rays: &[Ray],
+        states: &mut [PathState],
+        hashes: &mut [u64],
+        out: &mut [DVec3],
+    ) {
+        let mut found = [None; PACKET_MAX];
+        for (k0, rays) in (0..).step_by(PACKET_MAX).zip(rays.chunks(PACKET_MAX)) {
+            let found = &mut found[..rays.len()];
+            self.accel.intersect_packet(rays, found);
+            for (k, (ray, &hit)) in (k0..).zip(rays.iter().zip(found.iter())) {
+                states[k].rays.camera += 1;
+                out[k] = self.shade(ray, hit, 1, &mut states[k], Some(&mut hashes[k]));
+            }
+        }
+    }
+
     /// The framework's `RayTracing`: the colour along `ray` at `depth`,
     /// clamped to at most 1 per channel.
-    fn trace(
+    fn trace(&self, ray: &Ray, depth: u32, st: &mut PathState, hash: Option<&mut u64>) -> DVec3 {
+        self.shade(
+            ray,
+            self.accel.intersect(ray, f64::INFINITY),
+            depth,
+            st,
+            hash,
+        )
+    }
+
+    /// [`Tracer::trace`] for a ray whose nearest hit is `found`.
+    fn shade(
         &self,
         ray: &Ray,
+        found: Option<(u32, Hit)>,
         depth: u32,
         st: &mut PathState,
         mut hash: Option<&mut u64>,
     ) -> DVec3 {
         let scene = self.scene;
-        let Some((index, hit)) = self.accel.intersect(ray, f64::INFINITY) else {
+        let Some((index, hit)) = found else {
             return scene.background.color(ray.dir).min(DVec3::ONE);
         };
         let object = &self.accel.objects()[index as usize];
@@ -109,7 +142,7 @@ impl<'a> Tracer<'a> {
         if let Some(light) = object.light {
             return scene.lights[light as usize].color.min(DVec3::ONE);
         }
-        let m = &scene.materials[object.material as usize];
+        let m = scene.material(object.material);
         let surface = if m.texture.is_some() {
             object.shape.surface(ray, &hit)
         } else {

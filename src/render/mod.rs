@@ -6,7 +6,8 @@ mod integrator;
 pub use camera::CameraRays;
 pub use integrator::{MAX_DEPTH, RayCounts};
 
-use crate::accel::Accel;
+use crate::accel::{Accel, PACKET_MAX};
+use crate::geometry::Ray;
 use crate::output::Image;
 use crate::scene::Scene;
 use glam::DVec3;
@@ -58,6 +59,7 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Image {
 const AA_GRID: u32 = 7;
 /// Rows per rendering task, also the side of the tiles a task walks.
 const BAND: usize = 8;
+const _: () = assert!(BAND * BAND <= PACKET_MAX, "a tile is one packet");
 
 /// Renders a scene, calling `progress(done, total)` (in units of camera
 /// rays) as rows finish; returns the image and the figures.
@@ -112,8 +114,16 @@ impl Frame<'_> {
         }
     }
 
-    /// One camera ray at sub-pixel offset (fx, fy) in [0,1)² of pixel (x, y),
+    /// The camera ray at sub-pixel offset (fx, fy) in [0,1)² of pixel (x, y),
     /// fy measured downward from the pixel's top edge.
+    fn ray(&self, x: u32, y: u32, fx: f64, fy: f64) -> Ray {
+        // Framework row i counts from the bottom: pixel y covers i ∈ [H−1−y, H−y).
+        let i = (self.height - 1 - y) as f64 + (1.0 - fy);
+        let j = x as f64 + fx;
+        self.camera.ray(i, j)
+    }
+
+    /// The colour of one camera ray at sub-pixel offset (fx, fy) of pixel (x, y).
     fn sample(
         &self,
         x: u32,
@@ -123,10 +133,50 @@ impl Frame<'_> {
         st: &mut PathState,
         hash: &mut u64,
     ) -> DVec3 {
-        // Framework row i counts from the bottom: pixel y covers i ∈ [H−1−y, H−y).
-        let i = (self.height - 1 - y) as f64 + (1.0 - fy);
-        let j = x as f64 + fx;
-        self.tracer.trace_camera(&self.camera.ray(i, j), st, hash)
+        self.tracer.trace_camera(&self.ray(x, y, fx, fy), st, hash)
+    }
+
+    /// Pass 1 over the tile of columns `xs` and rows `ys` when a pixel takes
+    /// one ray through its centre, traced as one packet. Calls
+    /// `put(x, y, colour, hash)` for each pixel.
+    fn centre_tile(
+        &self,
+        xs: std::ops::Range<u32>,
+        ys: std::ops::Range<u32>,
+        with_hash: bool,
+        rays: &mut RayCounts,
+        mut put: impl FnMut(u32, u32, DVec3, u32),
+    ) {
+        let w = xs.len().max(1);
+        let n = (w * ys.len()).min(PACKET_MAX);
+        let pixel = |k: usize| (xs.start + (k % w) as u32, ys.start + (k / w) as u32);
+        let camera: [Ray; PACKET_MAX] = std::array::from_fn(|k| {
+            let (x, y) = pixel(k.min(n.saturating_sub(1)));
+            self.ray(x, y, 0.5, 0.5)
+        });
+        let mut states: [PathState; PACKET_MAX] = std::array::from_fn(|k| {
+            let (x, y) = pixel(k);
+            self.state(x, y, 0)
+        });
+        let mut hashes = [0u64; PACKET_MAX];
+        let mut colors = [DVec3::ZERO; PACKET_MAX];
+        self.tracer.trace_camera_packet(
+            &camera[..n],
+            &mut states[..n],
+            &mut hashes[..n],
+            &mut colors[..n],
+        );
+        for k in 0..n {
+            let (x, y) = pixel(k);
+            rays.add(&states[k].rays);
+            let h = hashes[k];
+            put(
+                x,
+                y,
+                colors[k],
+                if with_hash { (h ^ (h >> 32)) as u32 } else { 0 },
+            );
+        }
     }
 }
 
@@ -183,8 +233,18 @@ fn render_inner(
             let rows = band_pixels.len() / wu;
             let mut rays = RayCounts::default();
             for x0 in (0..wu).step_by(BAND) {
+                let x1 = (x0 + BAND).min(wu);
+                if spp.is_none_or(|n| n == 1) {
+                    let ys = y0 as u32..(y0 + rows) as u32;
+                    let mut put = |x: u32, y: u32, c: DVec3, hash: u32| {
+                        let i = (y as usize - y0) * wu + x as usize;
+                        (band_pixels[i], band_hashes[i]) = (to_f32(c), hash);
+                    };
+                    frame.centre_tile(x0 as u32..x1 as u32, ys, spp.is_none(), &mut rays, &mut put);
+                    continue;
+                }
                 for dy in 0..rows {
-                    for x in x0..(x0 + BAND).min(wu) {
+                    for x in x0..x1 {
                         let i = dy * wu + x;
                         (band_pixels[i], band_hashes[i]) =
                             shade(x as u32, (y0 + dy) as u32, &mut rays);
@@ -277,4 +337,82 @@ fn stratified(frame: &Frame, x: u32, y: u32, n: u32, rays: &mut RayCounts) -> DV
         }
     }
     sum / n as f64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::fmt::Write;
+
+    /// A cloud of spheres (a deep tree), a plane, a cube and a glass ball.
+    fn scene() -> Result<Scene, crate::scene::SceneError> {
+        let mut text = String::from(
+            "camera\n O= 0 -14 6\n N= 0 1 -0.3\n image_W= 61\n image_H= 37\nend\n\
+             light point\n O= 6 -10 16\n color= 1 1 1\nend\n\
+             primitive plane\n N= 0 0 1\n R= 0\n color= 0.8 0.8 0.8\n diff= 0.8\nend\n\
+             primitive cube\n O= 3 -3 1\n Dx= 1 0 0\n Dy= 0 1 0\n x= 1\n y= 1\n z= 1\n \
+             color= 1 0 0\n diff= 0.5\n refl= 0.5\nend\n\
+             primitive sphere\n O= -2 -4 2\n R= 1\n color= 1 1 1\n refr= 0.9\n rindex= 1.5\nend\n",
+        );
+        let mut x = 0.37f64;
+        for _ in 0..3000 {
+            let mut next = || {
+                x = (x * 7919.0 + 0.123).fract();
+                x
+            };
+            let (a, b, c) = (next(), next(), next());
+            // Writing to a String cannot fail.
+            let _ = write!(
+                text,
+                "primitive sphere\n O= {} {} {}\n R= 0.12\n color= {a} {b} {c}\n diff= 0.9\nend\n",
+                10.0 * a - 5.0,
+                10.0 * b - 5.0,
+                10.0 * c + 0.5
+            );
+        }
+        Scene::parse(&text, ".")
+    }
+
+    #[test]
+    fn packet_tiles_equal_single_rays() -> Result<(), crate::scene::SceneError> {
+        let scene = scene()?;
+        let accel = Accel::build(&scene.objects);
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        let frame = Frame {
+            tracer: Tracer::new(&scene, &accel),
+            camera: CameraRays::new(&scene.camera, w, h),
+            width: w,
+            height: h,
+            seed: 7,
+        };
+        let mut compared = 0;
+        let mut distinct = std::collections::HashSet::new();
+        // Tiles of every shape: full, cut at the right and bottom edges.
+        for (xs, ys) in [
+            (0..8, 0..8),
+            (56..61, 8..16),
+            (8..16, 32..37),
+            (0..61, 20..21),
+        ] {
+            let mut rays = RayCounts::default();
+            frame.centre_tile(xs, ys, true, &mut rays, |x, y, c, hash| {
+                let mut st = frame.state(x, y, 0);
+                let mut want_hash = 0u64;
+                let want = frame.sample(x, y, 0.5, 0.5, &mut st, &mut want_hash);
+                assert_eq!(c, want, "pixel {x} {y}");
+                assert_eq!(
+                    hash,
+                    (want_hash ^ (want_hash >> 32)) as u32,
+                    "pixel {x} {y}"
+                );
+                distinct.insert(hash);
+                compared += 1;
+            });
+            assert!(rays.camera > 0 && rays.shadow > 0);
+        }
+        assert_eq!(compared, 64 + 40 + 40 + 61);
+        // Not a blank picture: many different objects were seen.
+        assert!(distinct.len() > 20, "{} distinct hashes", distinct.len());
+        Ok(())
+    }
 }

@@ -16,6 +16,8 @@ pub use diagnostic::{Diagnostic, SceneError, Severity};
 use crate::geometry::Shape;
 use crate::shading::Texture;
 use glam::DVec3;
+use std::collections::HashMap;
+use std::hash::{DefaultHasher, Hash, Hasher};
 use std::path::{Path, PathBuf};
 
 /// The camera block: a pinhole eye and the framework's quality knobs.
@@ -133,7 +135,7 @@ impl Background {
 }
 
 /// Surface material (the same keys on every primitive).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Material {
     /// Base colour (`color=`).
     pub color: DVec3,
@@ -169,6 +171,144 @@ impl Default for Material {
             texture: None,
         }
     }
+}
+
+/// A material's keys other than its colour, stored once for all the
+/// materials that share them.
+#[derive(Clone, Copy, Debug)]
+struct Finish {
+    diff: f64,
+    spec: f64,
+    refl: f64,
+    drefl: f64,
+    refr: f64,
+    rindex: f64,
+    absor: DVec3,
+    texture: Option<u32>,
+}
+
+impl Finish {
+    fn of(m: &Material) -> Finish {
+        Finish {
+            diff: m.diff,
+            spec: m.spec,
+            refl: m.refl,
+            drefl: m.drefl,
+            refr: m.refr,
+            rindex: m.rindex,
+            absor: m.absor,
+            texture: m.texture,
+        }
+    }
+
+    /// The exact bit patterns: what "equal" means for sharing (-0.0 is not
+    /// 0.0, and a NaN equals the same NaN), so a shared value is always the
+    /// very value the file gave.
+    fn bits(&self) -> [u64; 10] {
+        [
+            self.diff.to_bits(),
+            self.spec.to_bits(),
+            self.refl.to_bits(),
+            self.drefl.to_bits(),
+            self.refr.to_bits(),
+            self.rindex.to_bits(),
+            self.absor.x.to_bits(),
+            self.absor.y.to_bits(),
+            self.absor.z.to_bits(),
+            // Never a u32: untextured differs from every texture index.
+            self.texture.map_or(u64::MAX, u64::from),
+        ]
+    }
+}
+
+/// A stored material: its colour and the index of its [`Finish`] (32 bytes).
+#[derive(Clone, Copy, Debug)]
+struct MaterialEntry {
+    color: DVec3,
+    finish: u32,
+}
+
+fn color_bits(c: DVec3) -> [u64; 3] {
+    [c.x.to_bits(), c.y.to_bits(), c.z.to_bits()]
+}
+
+/// The scene's materials, compact: a million spheres that differ only in
+/// colour cost 32 bytes each, not a full [`Material`] (104).
+#[derive(Clone, Debug, Default)]
+struct MaterialTable {
+    /// Indexed by [`Object::material`].
+    entries: Vec<MaterialEntry>,
+    /// Distinct finishes (bit for bit), in order of first use.
+    finishes: Vec<Finish>,
+    /// Finish index by a hash of its bits. Keyed by the hash alone to cost
+    /// 16 bytes a finish, not 88: the bits are checked on a hit, and a
+    /// different finish with the same hash (never seen in practice) is
+    /// stored unshared.
+    by_hash: HashMap<u64, u32>,
+}
+
+impl MaterialTable {
+    #[inline]
+    fn get(&self, index: u32) -> Material {
+        let e = self.entries[index as usize];
+        let f = self.finishes[e.finish as usize];
+        Material {
+            color: e.color,
+            diff: f.diff,
+            spec: f.spec,
+            refl: f.refl,
+            drefl: f.drefl,
+            refr: f.refr,
+            rindex: f.rindex,
+            absor: f.absor,
+            texture: f.texture,
+        }
+    }
+
+    fn add(&mut self, material: &Material) -> u32 {
+        let finish = Finish::of(material);
+        let bits = finish.bits();
+        let last = self
+            .entries
+            .last()
+            .map(|e| (e, self.finishes[e.finish as usize].bits()));
+        let finish = match last {
+            // Generated files repeat the same material block after block.
+            Some((e, last_bits)) if last_bits == bits => {
+                if color_bits(e.color) == color_bits(material.color) {
+                    return (self.entries.len() - 1) as u32;
+                }
+                // Only the colour is new: no hashing needed.
+                e.finish
+            }
+            _ => self.intern(finish, bits, hash_bits(&bits)),
+        };
+        self.entries.push(MaterialEntry {
+            color: material.color,
+            finish,
+        });
+        (self.entries.len() - 1) as u32
+    }
+
+    /// The index of a finish equal to `finish` bit for bit, added if new;
+    /// `hash` is [`hash_bits`] of `bits` (a parameter so a test can collide).
+    fn intern(&mut self, finish: Finish, bits: [u64; 10], hash: u64) -> u32 {
+        if let Some(&i) = self.by_hash.get(&hash)
+            && self.finishes[i as usize].bits() == bits
+        {
+            return i;
+        }
+        let i = self.finishes.len() as u32;
+        self.finishes.push(finish);
+        self.by_hash.entry(hash).or_insert(i);
+        i
+    }
+}
+
+fn hash_bits(bits: &[u64; 10]) -> u64 {
+    let mut h = DefaultHasher::new();
+    bits.hash(&mut h);
+    h.finish()
 }
 
 /// One light source.
@@ -221,7 +361,7 @@ pub enum LightKind {
 pub struct Object {
     /// The geometry.
     pub shape: Shape,
-    /// Index into [`Scene::materials`].
+    /// Material index, for [`Scene::material`].
     pub material: u32,
     /// 0-based index of the `primitive` block it came from, in file order
     /// (`None` for the visible surface of an area light).
@@ -239,8 +379,9 @@ pub struct Scene {
     pub camera: Camera,
     /// The background.
     pub background: Background,
-    /// Materials, indexed by [`Object::material`].
-    pub materials: Vec<Material>,
+    /// Materials, indexed by [`Object::material`]: read them with
+    /// [`Scene::material`], add them with [`Scene::add_material`].
+    materials: MaterialTable,
     /// Decoded textures, indexed by [`Material::texture`].
     pub textures: Vec<Texture>,
     /// Lights, in file order.
@@ -273,7 +414,7 @@ impl Scene {
             path: None,
             camera: Camera::default(),
             background: Background::Color(DVec3::ZERO),
-            materials: Vec::new(),
+            materials: MaterialTable::default(),
             textures: Vec::new(),
             lights: Vec::new(),
             objects: Vec::new(),
@@ -310,14 +451,32 @@ impl Scene {
         index
     }
 
-    /// Adds a material and returns its index; one equal to the last added is
-    /// shared instead (generated files repeat the same material block after
-    /// block, and a million copies would cost 100 MB).
+    /// Adds a material and returns its index. One identical (bit for bit) to
+    /// the last added is shared; otherwise it costs 32 bytes, plus its keys
+    /// other than `color=` when no earlier material had them all identical.
     pub fn add_material(&mut self, material: Material) -> u32 {
-        if self.materials.last() != Some(&material) {
-            self.materials.push(material);
-        }
-        (self.materials.len() - 1) as u32
+        self.materials.add(&material)
+    }
+
+    /// The material at `index` (an [`Object::material`]); panics if out of range.
+    #[inline]
+    pub fn material(&self, index: u32) -> Material {
+        self.materials.get(index)
+    }
+
+    /// Every material, in index order.
+    pub fn materials(&self) -> impl ExactSizeIterator<Item = Material> + '_ {
+        (0..self.materials.entries.len() as u32).map(|i| self.materials.get(i))
+    }
+
+    /// How many materials are stored (shared ones once).
+    pub fn material_count(&self) -> usize {
+        self.materials.entries.len()
+    }
+
+    /// How many distinct sets of the keys other than `color=` are stored.
+    pub fn finish_count(&self) -> usize {
+        self.materials.finishes.len()
     }
 
     /// Adds a primitive surface with the given block index and material.
@@ -328,5 +487,78 @@ impl Scene {
             block: Some(block),
             light: None,
         });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn glossy(color: DVec3) -> Material {
+        Material {
+            color,
+            diff: 0.3,
+            refl: 0.6,
+            drefl: 0.2,
+            ..Material::default()
+        }
+    }
+
+    #[test]
+    fn a_material_that_only_brings_a_colour_costs_32_bytes() {
+        assert_eq!(std::mem::size_of::<MaterialEntry>(), 32);
+        let mut scene = Scene::empty();
+        for i in 0..1000 {
+            let index = scene.add_material(glossy(DVec3::splat(i as f64)));
+            assert_eq!(index, i);
+        }
+        assert_eq!((scene.material_count(), scene.finish_count()), (1000, 1));
+        assert_eq!(scene.material(999), glossy(DVec3::splat(999.0)));
+    }
+
+    #[test]
+    fn materials_read_back_exactly_as_added() {
+        let mut scene = Scene::empty();
+        let all = [
+            glossy(DVec3::X),
+            Material {
+                texture: Some(3),
+                ..glossy(DVec3::X)
+            },
+            Material::default(),
+            Material {
+                rindex: f64::NAN,
+                refr: 1.0,
+                absor: DVec3::new(-0.0, 1e-300, 7.0),
+                ..glossy(DVec3::Y)
+            },
+            glossy(DVec3::Z),
+        ];
+        let indices: Vec<_> = all.iter().map(|m| scene.add_material(*m)).collect();
+        assert_eq!(indices, vec![0, 1, 2, 3, 4]);
+        assert_eq!(scene.finish_count(), 4);
+        for (i, m) in indices.iter().zip(&all) {
+            let got = scene.material(*i);
+            assert_eq!(Finish::of(&got).bits(), Finish::of(m).bits());
+            assert_eq!(color_bits(got.color), color_bits(m.color));
+        }
+        // A NaN is the same NaN: equal bits are shared even where == is false.
+        let nan = all[3];
+        assert_eq!(scene.add_material(nan), 5);
+        assert_eq!(scene.add_material(nan), 5);
+        assert_eq!(scene.finish_count(), 4);
+    }
+
+    #[test]
+    fn a_hash_collision_stores_the_finish_unshared() {
+        let mut table = MaterialTable::default();
+        let a = Finish::of(&glossy(DVec3::ZERO));
+        let b = Finish::of(&Material::default());
+        assert_eq!(table.intern(a, a.bits(), 7), 0);
+        // Same hash, different bits: never taken for `a`.
+        assert_eq!(table.intern(b, b.bits(), 7), 1);
+        assert_eq!(table.intern(a, a.bits(), 7), 0);
+        assert_eq!(table.finishes.len(), 2);
+        assert_eq!(table.finishes[1].bits(), b.bits());
     }
 }

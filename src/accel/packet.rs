@@ -1,0 +1,174 @@
+//! Nearest hits for a packet of coherent rays (a tile's camera rays): one
+//! walk of the tree for the whole packet. A node is tested with the first
+//! ray that can still enter it, and, when the rays share their origin, the
+//! whole packet skips a box that lies outside all of them at once. Each
+//! answer is exactly that of [`Accel::intersect`] for the same ray.
+
+use super::Accel;
+use super::bvh::{FAR_SLACK, MISS, Node, Pair, RayBox, STACK_SIZE};
+use crate::geometry::{Hit, Ray};
+use glam::DVec3;
+
+/// Rays in one packet at most (longer slices are split).
+pub const PACKET_MAX: usize = 64;
+
+impl Accel<'_> {
+    /// The nearest hit of each ray (`ray.t_min` < t, at any distance) into
+    /// `out`: for each ray exactly what [`Accel::intersect`] returns.
+    pub fn intersect_packet(&self, rays: &[Ray], out: &mut [Option<(u32, Hit)>]) {
+        for (rays, out) in rays.chunks(PACKET_MAX).zip(out.chunks_mut(PACKET_MAX)) {
+            let mut t_best = [f64::INFINITY; PACKET_MAX];
+            for (j, ray) in rays.iter().enumerate() {
+                out[j] = None;
+                for &i in &self.unbounded {
+                    self.test(i, ray, &mut out[j], &mut t_best[j]);
+                }
+            }
+            self.walk_packet(rays, &mut t_best, |j, prims, t| {
+                for &p in prims {
+                    self.test(p, &rays[j], &mut out[j], t);
+                }
+            });
+        }
+    }
+
+    /// Walks the tree once for up to [`PACKET_MAX`] rays: `leaf(j, prims,
+    /// t)` runs for every leaf that ray j enters within its limit `t[j]`,
+    /// which the call may lower.
+    #[inline(always)]
+    fn walk_packet(
+        &self,
+        rays: &[Ray],
+        t: &mut [f64; PACKET_MAX],
+        mut leaf: impl FnMut(usize, &[u32], &mut f64),
+    ) {
+        let n = rays.len().min(PACKET_MAX);
+        let bvh = &self.bvh;
+        let (Some(Pair([root, _])), Some(last)) = (bvh.pairs.first(), n.checked_sub(1)) else {
+            return;
+        };
+        let rb: [RayBox; PACKET_MAX] = std::array::from_fn(|j| RayBox::new(&rays[j.min(last)]));
+        let frustum = Frustum::of(&rays[..n]);
+        // Children are visited in the order their centres lie along the
+        // packet's mean direction: near first, for most of its rays.
+        let dir: DVec3 = rays[..n].iter().map(|r| r.dir).sum();
+        let along = |node: &Node| {
+            let b = node.bounds;
+            (b[0] + b[3]) as f64 * dir.x
+                + (b[1] + b[4]) as f64 * dir.y
+                + (b[2] + b[5]) as f64 * dir.z
+        };
+        // The farthest any ray may still reach: never below any ray's limit.
+        let farthest = |t: &[f64; PACKET_MAX]| t[..n].iter().fold(0.0, |a: f64, &x| a.max(x));
+        let mut t_all = farthest(t);
+        // Pending nodes with the first ray that may enter them; one push per
+        // level, and the tree is shallower than STACK_SIZE.
+        let mut stack = [(0u32, 0u32); STACK_SIZE];
+        let mut sp = 0;
+        let mut node = root;
+        let mut first = 0;
+        'walk: loop {
+            'visit: {
+                if frustum
+                    .as_ref()
+                    .is_some_and(|f| f.misses(&node.bounds, t_all))
+                {
+                    break 'visit;
+                }
+                // Rays before the first that enters this box miss all of its
+                // descendants too: their boxes lie inside it, and limits only fall.
+                let Some(i) = (first..n).find(|&j| rb[j].entry(&node.bounds, t[j]) != MISS) else {
+                    break 'visit;
+                };
+                if node.count > 0 {
+                    let s = node.start as usize;
+                    let prims = &bvh.prims[s..s + node.count as usize];
+                    for j in i..n {
+                        if j == i || rb[j].entry(&node.bounds, t[j]) != MISS {
+                            leaf(j, prims, &mut t[j]);
+                        }
+                    }
+                    t_all = farthest(t);
+                    break 'visit;
+                }
+                let pair = &bvh.pairs[node.start as usize >> 1].0;
+                let near = (along(&pair[1]) < along(&pair[0])) as usize;
+                stack[sp & (STACK_SIZE - 1)] = (node.start + (near ^ 1) as u32, i as u32);
+                sp += 1;
+                node = &pair[near];
+                first = i;
+                continue 'walk;
+            }
+            if sp == 0 {
+                return;
+            }
+            sp -= 1;
+            let (id, f) = stack[sp & (STACK_SIZE - 1)];
+            node = bvh.node(id);
+            first = f as usize;
+        }
+    }
+}
+
+/// The bounds of a packet of rays from one origin whose directions agree in
+/// sign on every axis: enough to tell that a box lies outside all of them.
+struct Frustum {
+    origin: [f64; 3],
+    /// Per axis: 0 if the rays run towards +axis (enter at the box's min), else 3.
+    near: [usize; 3],
+    /// Per axis: the least and greatest inverse direction component.
+    inv_lo: [f64; 3],
+    inv_hi: [f64; 3],
+}
+
+impl Frustum {
+    /// The packet's bounds, or `None` when its rays do not share an origin
+    /// or a direction component is zero or changes sign.
+    fn of(rays: &[Ray]) -> Option<Frustum> {
+        let first = rays.first()?;
+        let origin = first.origin;
+        let mut f = Frustum {
+            origin: origin.to_array(),
+            near: [0; 3],
+            inv_lo: [f64::INFINITY; 3],
+            inv_hi: [f64::NEG_INFINITY; 3],
+        };
+        for a in 0..3 {
+            let negative = first.dir[a] < 0.0;
+            f.near[a] = if negative { 3 } else { 0 };
+            for r in rays {
+                let d = r.dir[a];
+                if r.origin != origin || d == 0.0 || (d < 0.0) != negative || d.is_nan() {
+                    return None;
+                }
+                let inv = 1.0 / d;
+                f.inv_lo[a] = f.inv_lo[a].min(inv);
+                f.inv_hi[a] = f.inv_hi[a].max(inv);
+            }
+        }
+        Some(f)
+    }
+
+    /// Whether no ray of the packet enters box `b` at a distance in
+    /// [0, `t_far`] by [`RayBox::entry`]'s arithmetic.
+    ///
+    /// Each ray's slab distance (b − o)·(1/d) is computed from the same
+    /// difference as here, and rounding is monotone in the factor 1/d, so it
+    /// lies between the two computed with the extreme inverses: the packet's
+    /// entry bound is below every ray's entry, its exit bound above every
+    /// exit, and a miss here is a miss for every ray.
+    #[inline(always)]
+    fn misses(&self, b: &[f32; 6], t_far: f64) -> bool {
+        let mut t0: f64 = 0.0;
+        let mut t1 = t_far;
+        for a in 0..3 {
+            let near = self.near[a] & 3;
+            let dn = b[near + a] as f64 - self.origin[a];
+            let df = b[(near ^ 3) + a] as f64 - self.origin[a];
+            let (lo, hi) = (self.inv_lo[a], self.inv_hi[a]);
+            t0 = t0.max((dn * lo).min(dn * hi));
+            t1 = t1.min((df * lo).max(df * hi));
+        }
+        t0 > t1 * FAR_SLACK
+    }
+}
