@@ -7,7 +7,9 @@ mod common;
 use common::{half_sizes, log_size, point_in, random_sign};
 use glam::{DMat3, DVec2, DVec3};
 use glint::accel::Accel;
-use glint::geometry::{Bezier, Cube, Cylinder, Hit, Plane, Ray, Shape, Sphere, Square, Triangle};
+use glint::geometry::{
+    Bezier, Cube, Cylinder, Hit, Plane, Ray, Shape, Sphere, Square, Triangle, offset_origin,
+};
 use glint::scene::{Object, Scene};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
@@ -201,6 +203,7 @@ fn check(objects: &[Object], rays: usize, half: f64, seed: u64) {
     let lights: Vec<u32> = objects.iter().filter_map(|o| o.light).collect();
     let mut rng = Pcg64::seed_from_u64(seed);
     let mut hits = 0;
+    let (mut shadows, mut blocked) = (0, 0);
     for n in 0..rays {
         let ray = random_ray(&mut rng, objects, half);
         let expected = brute_intersect(objects, &ray, f64::INFINITY);
@@ -217,6 +220,33 @@ fn check(objects: &[Object], rays: usize, half: f64, seed: u64) {
                 brute_occluded(objects, &ray, h.t.next_up(), l),
                 "ray {n}: {ray:?}, ignoring the hit object's light {l:?}"
             );
+            // A shadow ray leaving the hit surface, walked up from its leaf.
+            let s = objects[i as usize].shape.surface(&ray, &h);
+            let side = if s.normal.dot(ray.dir) < 0.0 {
+                s.normal
+            } else {
+                -s.normal
+            };
+            let mut dir = unit_vector(&mut rng);
+            if dir.dot(side) < 0.0 {
+                dir = -dir;
+            }
+            let shadow = Ray::off_surface(offset_origin(s.point, side), dir);
+            for t_max in [rng.random_range(0.0..2.0 * half), f64::INFINITY] {
+                for ignore in [None, l] {
+                    let want = objects.iter().any(|o| {
+                        let skip = ignore.is_some() && o.light == ignore;
+                        !skip && o.shape.intersect(&shadow, shadow.t_min, t_max).is_some()
+                    });
+                    let got = accel.occluded_hinted(&shadow, t_max, ignore, Some(i), &mut None);
+                    assert_eq!(
+                        got, want,
+                        "ray {n}: shadow {shadow:?} from {i}, t_max {t_max}"
+                    );
+                    shadows += 1;
+                    blocked += want as usize;
+                }
+            }
         }
         for &t_max in &t_maxes {
             let expected = brute_intersect(objects, &ray, t_max);
@@ -242,6 +272,13 @@ fn check(objects: &[Object], rays: usize, half: f64, seed: u64) {
     if !objects.is_empty() {
         // Guards against a generator that misses everything (vacuous test).
         assert!(hits * 10 >= rays, "only {hits} of {rays} rays hit");
+    }
+    if objects.len() > 100 {
+        // Shadow rays both blocked and free were checked.
+        assert!(
+            blocked > 0 && blocked < shadows,
+            "{blocked} of {shadows} shadow rays blocked"
+        );
     }
 }
 

@@ -154,13 +154,20 @@ pub(crate) struct Bvh {
     pub pairs: Vec<Pair>,
     /// Primitive indices, leaf by leaf.
     pub prims: Vec<u32>,
+    /// Per pair: the id of the node whose children it holds (0 for pair 0).
+    parent: Vec<u32>,
+    /// Per primitive index: the id of its leaf, or [`NO_LEAF`].
+    leaf_of: Vec<u32>,
 }
+
+/// [`Bvh::leaf_of`] for a primitive not in the tree.
+const NO_LEAF: u32 = u32::MAX;
 
 impl Bvh {
     /// Builds the tree over `items`; the result does not depend on the
     /// number of threads, and the build needs little beyond the items and
     /// the final arrays.
-    pub(crate) fn build(mut items: Vec<Item>) -> Bvh {
+    pub(crate) fn build(mut items: Vec<Item>, primitives: usize) -> Bvh {
         if items.is_empty() {
             return Bvh::default();
         }
@@ -177,7 +184,38 @@ impl Bvh {
         head[0].0[0] = lay_out(&plan, &items, 0, rest, 1);
         drop(plan);
         let prims = items.iter().map(|it| it.index).collect();
-        Bvh { pairs, prims }
+        drop(items);
+        let mut bvh = Bvh {
+            pairs,
+            prims,
+            parent: Vec::new(),
+            leaf_of: Vec::new(),
+        };
+        bvh.link(primitives);
+        bvh
+    }
+
+    /// Fills the upward links: each pair's parent and each primitive's leaf
+    /// (`primitives` bounds the primitive indices).
+    fn link(&mut self, primitives: usize) {
+        let mut parent = vec![0u32; self.pairs.len()];
+        let mut leaf_of = vec![NO_LEAF; primitives];
+        // Node ids run over both slots of every pair but the root's unused one.
+        for k in (0..2 * self.pairs.len() as u32).filter(|&k| k != 1) {
+            let node = self.node(k);
+            let s = node.start as usize;
+            if node.count == 0 {
+                parent[s >> 1] = k;
+            } else {
+                for &p in &self.prims[s..s + node.count as usize] {
+                    if let Some(slot) = leaf_of.get_mut(p as usize) {
+                        *slot = k;
+                    }
+                }
+            }
+        }
+        self.parent = parent;
+        self.leaf_of = leaf_of;
     }
 
     /// The node with id `k`.
@@ -193,7 +231,9 @@ impl Bvh {
 
     /// Bytes held on the heap.
     pub(crate) fn heap_bytes(&self) -> usize {
-        self.pairs.capacity() * size_of::<Pair>() + self.prims.capacity() * size_of::<u32>()
+        self.pairs.capacity() * size_of::<Pair>()
+            + (self.prims.capacity() + self.parent.capacity() + self.leaf_of.capacity())
+                * size_of::<u32>()
     }
 
     /// Visits, nearest box first, the leaves whose boxes the ray enters at a
@@ -225,7 +265,56 @@ impl Bvh {
         });
     }
 
-    /// The walk of [`Bvh::traverse`] from `root`, with a stack to use.
+    /// [`Bvh::traverse`] for a ray leaving the surface of primitive `from`:
+    /// the walk starts at its leaf and goes up, visiting at each level the
+    /// subtree beside the path. Those subtrees and the leaf make up the whole
+    /// tree, so the same leaves are visited, but the primitives near the
+    /// origin come first and the descent from the root is skipped: a shadow
+    /// ray mostly meets its blocker a level or two up.
+    #[inline]
+    pub(crate) fn traverse_from(
+        &self,
+        from: u32,
+        ray: &Ray,
+        t_best: &mut f64,
+        mut leaf: impl FnMut(&[u32], &mut f64) -> bool,
+    ) {
+        let start = self.leaf_of.get(from as usize).copied().unwrap_or(NO_LEAF);
+        if start == NO_LEAF {
+            return self.traverse(ray, t_best, leaf);
+        }
+        let rb = RayBox::new(ray);
+        let mut up = |stack: &mut Stack| {
+            // Subtree roots in order: the leaf, then each sibling up the path.
+            let mut k = start;
+            let mut root = start;
+            loop {
+                let node = self.node(root);
+                if rb.entry(&node.bounds, *t_best) != MISS
+                    && self.walk(&rb, node, t_best, stack, &mut leaf)
+                {
+                    return;
+                }
+                if k == 0 {
+                    return;
+                }
+                // Node k is not the root, so it has a sibling (ids 2p, 2p + 1
+                // of pair p ≥ 1) and a parent.
+                root = k ^ 1;
+                k = self.parent[k as usize >> 1];
+            }
+        };
+        STACK.with(|cell| match cell.try_borrow_mut() {
+            Ok(mut stack) => up(&mut stack),
+            Err(_) => {
+                let mut fresh = Stack::EMPTY;
+                up(&mut fresh)
+            }
+        });
+    }
+
+    /// The walk of [`Bvh::traverse`] from `root`, with a stack to use; true
+    /// when `leaf` stopped it.
     #[inline(always)]
     fn walk(
         &self,
@@ -234,7 +323,7 @@ impl Bvh {
         t_best: &mut f64,
         stack: &mut Stack,
         mut leaf: impl FnMut(&[u32], &mut f64) -> bool,
-    ) {
+    ) -> bool {
         let Stack {
             node: stack_node,
             t: stack_t,
@@ -245,7 +334,7 @@ impl Bvh {
             if node.count > 0 {
                 let s = node.start as usize;
                 if leaf(&self.prims[s..s + node.count as usize], t_best) {
-                    return;
+                    return true;
                 }
             } else {
                 let pair = &self.pairs[node.start as usize >> 1].0;
@@ -270,7 +359,7 @@ impl Bvh {
             // Pop the nearest pending node that may still hold a nearer hit.
             loop {
                 if sp == 0 {
-                    return;
+                    return false;
                 }
                 sp -= 1;
                 if stack_t[sp & (STACK_SIZE - 1)] <= *t_best * FAR_SLACK {
@@ -799,7 +888,7 @@ mod tests {
             rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
                 .build()
-                .map(|pool| pool.install(|| Bvh::build(items.clone())))
+                .map(|pool| pool.install(|| Bvh::build(items.clone(), items.len())))
         };
         let (a, b) = (on(1)?, on(2)?);
         assert_eq!(items.len(), 50_000);
@@ -830,11 +919,35 @@ mod tests {
     }
 
     #[test]
+    fn upward_links_lead_from_every_leaf_to_the_root() {
+        let items = sphere_items(5000, 4);
+        let n = items.len();
+        // One index left out of the tree: it has no leaf.
+        let bvh = Bvh::build(items[1..].to_vec(), n);
+        assert_eq!(bvh.leaf_of[items[0].index as usize], NO_LEAF);
+        for it in &items[1..] {
+            let k = bvh.leaf_of[it.index as usize];
+            let leaf = bvh.node(k);
+            let s = leaf.start as usize;
+            assert!(leaf.count > 0 && bvh.prims[s..s + leaf.count as usize].contains(&it.index));
+            // Up the parents: each holds the node as a child, and the root is reached.
+            let (mut k, mut steps) = (k, 0);
+            while k != 0 {
+                let parent = bvh.node(bvh.parent[k as usize >> 1]);
+                assert!(parent.count == 0 && parent.start == k & !1);
+                k = bvh.parent[k as usize >> 1];
+                steps += 1;
+                assert!(steps < STACK_SIZE);
+            }
+        }
+    }
+
+    #[test]
     fn depth_stays_within_the_stack() {
         let items = deep_items();
         assert_eq!(items.len(), 2 * 219, "every box is finite");
         let n = items.len();
-        let bvh = Bvh::build(items);
+        let bvh = Bvh::build(items, n);
         let depth = depth_and_coverage(&bvh, n);
         assert!(
             depth > SAH_MAX_DEPTH,
@@ -860,7 +973,11 @@ mod tests {
             let (root, count) = build_node(&mut items, 0, ext, 0, &mut slots[1..], 1);
             let prims = items.iter().map(|it| it.index).collect();
             let pairs = compact(root, &slots, count);
-            Bvh { pairs, prims }
+            Bvh {
+                pairs,
+                prims,
+                ..Bvh::default()
+            }
         }
 
         /// Builds the subtree over `items` (the first is primitive `offset` of the
@@ -996,8 +1113,12 @@ mod tests {
                 .num_threads(threads)
                 .build()?;
             for items in &cases {
-                let (new, old) =
-                    pool.install(|| (Bvh::build(items.clone()), slot_build::build(items.clone())));
+                let (new, old) = pool.install(|| {
+                    (
+                        Bvh::build(items.clone(), items.len()),
+                        slot_build::build(items.clone()),
+                    )
+                });
                 let n = items.len();
                 assert_eq!(new.pairs, old.pairs, "{n} items, {threads} threads");
                 assert_eq!(node_bits(&new), node_bits(&old), "{n} items");

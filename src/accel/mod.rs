@@ -43,7 +43,7 @@ impl<'a> Accel<'a> {
         }
         Accel {
             objects,
-            bvh: Bvh::build(items),
+            bvh: Bvh::build(items, objects.len()),
             unbounded,
         }
     }
@@ -91,17 +91,19 @@ impl<'a> Accel<'a> {
     /// Whether anything lies on the ray with `ray.t_min` < t < `t_max`, not counting
     /// the visible surface of light `ignore_light`.
     pub fn occluded(&self, ray: &Ray, t_max: f64, ignore_light: Option<u32>) -> bool {
-        self.occluded_hinted(ray, t_max, ignore_light, &mut None)
+        self.occluded_hinted(ray, t_max, ignore_light, None, &mut None)
     }
 
-    /// [`Accel::occluded`], trying the object in `hint` first and leaving the
-    /// blocker found in it: the shadow rays of one point towards one area
-    /// light are mostly stopped by the same object.
+    /// [`Accel::occluded`] for a ray leaving the surface of object `from`
+    /// (if known), whose neighbours are tried first, and trying the object
+    /// in `hint` before all, leaving in it the blocker found: the shadow
+    /// rays of one point towards one area light mostly meet the same one.
     pub fn occluded_hinted(
         &self,
         ray: &Ray,
         t_max: f64,
         ignore_light: Option<u32>,
+        from: Option<u32>,
         hint: &mut Option<u32>,
     ) -> bool {
         let blocks = |i: u32| self.blocks(i, ray, t_max, ignore_light);
@@ -114,10 +116,14 @@ impl<'a> Accel<'a> {
         }
         let mut blocker = None;
         let mut t_best = t_max;
-        self.bvh.traverse(ray, &mut t_best, |prims, _| {
+        let leaf = |prims: &[u32], _: &mut f64| {
             blocker = prims.iter().copied().find(|&i| blocks(i));
             blocker.is_some()
-        });
+        };
+        match from {
+            Some(object) => self.bvh.traverse_from(object, ray, &mut t_best, leaf),
+            None => self.bvh.traverse(ray, &mut t_best, leaf),
+        }
         if blocker.is_some() {
             *hint = blocker;
         }

@@ -3,7 +3,7 @@
 use crate::accel::{Accel, PACKET_MAX};
 use crate::geometry::{Hit, Ray, offset_origin};
 use crate::scene::{LightKind, Scene};
-use crate::shading::shade_factor;
+use crate::shading::{ShadowFrom, shade_factor};
 use glam::DVec3;
 use rand::Rng;
 use rand_pcg::Pcg32;
@@ -169,12 +169,16 @@ impl<'a> Tracer<'a> {
                 if d <= 0.0 {
                     continue;
                 }
+                let from = ShadowFrom {
+                    point,
+                    side,
+                    object: Some(index),
+                };
                 let (s, rays) = shade_factor(
                     self.accel,
                     light,
                     li as u32,
-                    point,
-                    side,
+                    &from,
                     self.shadow_samples,
                     &mut st.rng,
                 );

@@ -7,29 +7,40 @@ use glam::DVec3;
 use rand::Rng;
 use std::f64::consts::TAU;
 
-/// The shade factor s in [0, 1]: the fraction of shadow rays from `point`
-/// (nudged off its surface along the unit normal `side`) that reach light
-/// `index`. Point lights take one ray; area lights `samples`, stratified.
-/// Returns s and the number of shadow rays traced.
+/// Where shadow rays start.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadowFrom {
+    /// A point on a surface.
+    pub point: DVec3,
+    /// The unit normal on the side the rays leave from (they start nudged along it).
+    pub side: DVec3,
+    /// The object whose surface it is, if any: its neighbours are tried first.
+    pub object: Option<u32>,
+}
+
+/// The shade factor s in [0, 1]: the fraction of shadow rays from `from`
+/// that reach light `index`. Point lights take one ray; area lights
+/// `samples`, stratified. Returns s and the number of shadow rays traced.
 pub fn shade_factor(
     accel: &Accel,
     light: &Light,
     index: u32,
-    point: DVec3,
-    side: DVec3,
+    from: &ShadowFrom,
     samples: u32,
     rng: &mut impl Rng,
 ) -> (f64, u64) {
-    let origin = offset_origin(point, side);
+    let origin = offset_origin(from.point, from.side);
     // Every shadow ray of this point starts here (same sliver); only its
     // direction changes.
-    let from = Ray::off_surface(origin, DVec3::ZERO);
-    let towards = |dir: DVec3| Ray { dir, ..from };
+    let start = Ray::off_surface(origin, DVec3::ZERO);
+    let towards = |dir: DVec3| Ray { dir, ..start };
+    let leaving = from.object;
     match light.kind {
         LightKind::Point { pos } => {
             let to = pos - origin;
             let dist = to.length();
-            let blocked = dist > 0.0 && accel.occluded(&towards(to / dist), dist, None);
+            let blocked = dist > 0.0
+                && accel.occluded_hinted(&towards(to / dist), dist, None, leaving, &mut None);
             (if blocked { 0.0 } else { 1.0 }, 1)
         }
         LightKind::Square { center, dx, dy } => {
@@ -48,6 +59,7 @@ pub fn shade_factor(
                             &towards(to * (1.0 / dist)),
                             dist,
                             Some(index),
+                            leaving,
                             &mut blocker,
                         )
                     {
@@ -85,7 +97,7 @@ pub fn shade_factor(
                     let ray = towards(dir);
                     // Up to the light's surface (the tangent distance for rounding at the rim).
                     let t_light = sphere.roots(&ray).map_or(tangent, |(t0, _)| t0);
-                    if !accel.occluded_hinted(&ray, t_light, Some(index), &mut blocker) {
+                    if !accel.occluded_hinted(&ray, t_light, Some(index), leaving, &mut blocker) {
                         lit += 1;
                     }
                 }

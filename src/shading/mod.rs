@@ -3,6 +3,6 @@
 mod light;
 mod texture;
 
-pub use light::shade_factor;
+pub use light::{ShadowFrom, shade_factor};
 pub use light::{perpendiculars, strata};
 pub use texture::Texture;
