@@ -40,20 +40,21 @@ run() {
     cat "$work/log" >&2
     return 1
   }
-  local summary size render bvh rays mrays wall kib
+  local summary size render bvh trace rays mrays wall kib
   summary=$(grep 'Mrays/s' "$work/log")
   size=$(sed -E 's/^.*: ([0-9]+x[0-9]+),.*/\1/' <<< "$summary")
   render=$(sed -E 's/.*\(([0-9.]+) s render.*/\1/' <<< "$summary")
   bvh=$(sed -E 's/.*, ([0-9.]+) s BVH\).*/\1/' <<< "$summary")
   rays=$(sed -E 's/.*, ([0-9.]+) M rays.*/\1/' <<< "$summary")
   mrays=$(sed -E 's/.*, ([0-9.]+) Mrays\/s.*/\1/' <<< "$summary")
+  trace=$(awk -v r="$render" -v b="$bvh" 'BEGIN {printf "%.2f", r - b}')
   read -r wall kib < "$work/time"
-  printf '| %-22s | %-9s | %7s | %8s | %6s | %8s | %7s | %8.0f |\n' "$name" "$size" "$wall" "$render" "$bvh" "$rays" "$mrays" "$((kib / 1024))"
+  printf '| %-22s | %-9s | %7s | %8s | %6s | %7s | %8s | %7s | %8.0f |\n' "$name" "$size" "$wall" "$render" "$bvh" "$trace" "$rays" "$mrays" "$((kib / 1024))"
 }
 
 header() {
-  printf '| %-22s | %-9s | %7s | %8s | %6s | %8s | %7s | %8s |\n' scene size "wall s" "render s" "BVH s" "M rays" "Mrays/s" "peak MiB"
-  printf '|%s|%s|%s|%s|%s|%s|%s|%s|\n' ------------------------ ----------- --------- ---------- -------- ---------- --------- ----------
+  printf '| %-22s | %-9s | %7s | %8s | %6s | %7s | %8s | %7s | %8s |\n' scene size "wall s" "render s" "BVH s" "trace s" "M rays" "Mrays/s" "peak MiB"
+  printf '|%s|%s|%s|%s|%s|%s|%s|%s|%s|\n' ------------------------ ----------- --------- ---------- -------- --------- ---------- --------- ----------
 }
 
 if [[ ${1:-} == --povray ]]; then
