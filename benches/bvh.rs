@@ -5,7 +5,7 @@
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use glam::DVec3;
 use glint::accel::Accel;
-use glint::geometry::{Ray, Shape, Sphere, Triangle};
+use glint::geometry::{Ray, Shape, Sphere, Triangle, offset_origin};
 use glint::scene::Object;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
@@ -112,6 +112,50 @@ fn segments(objects: &[Object], seed: u64) -> Vec<(Ray, f64)> {
         .collect()
 }
 
+/// Camera tiles: 8x8 rays through neighbouring pixels of a 1024x1024 view
+/// of the scene's box from one eye, at random places, tile after tile.
+fn camera_tiles(objects: &[Object], seed: u64) -> Vec<Ray> {
+    let mut rng = Pcg64::seed_from_u64(seed);
+    let (lo, hi) = scene_bounds(objects);
+    let (c, r) = ((lo + hi) * 0.5, (hi - lo).length());
+    let eye = c - DVec3::new(0.3, 1.0, -0.4).normalize() * r;
+    let n = (c - eye).normalize();
+    let right = n.cross(DVec3::Z).normalize();
+    let up = right.cross(n);
+    let pixel = 0.7 / 1024.0;
+    let mut rays = Vec::with_capacity(BATCH);
+    while rays.len() + 64 <= BATCH {
+        let (px, py) = (rng.random_range(0..1016), rng.random_range(0..1016));
+        for k in 0..64 {
+            let (x, y) = ((px + k % 8) as f64 - 512.0, (py + k / 8) as f64 - 512.0);
+            let d = n + right * (x * pixel) + up * (y * pixel);
+            rays.push(Ray::new(eye, d.normalize()));
+        }
+    }
+    rays
+}
+
+/// Shadow rays from where `rays` hit, towards a light above the scene:
+/// each ray, its length and the object it leaves.
+fn shadow_rays(accel: &Accel, objects: &[Object], rays: &[Ray]) -> Vec<(Ray, f64, u32)> {
+    let (lo, hi) = scene_bounds(objects);
+    let light = (lo + hi) * 0.5 + DVec3::new(0.2, -0.5, 1.0) * (hi - lo).length();
+    rays.iter()
+        .filter_map(|r| {
+            let (i, h) = accel.intersect(r, f64::INFINITY)?;
+            let s = objects[i as usize].shape.surface(r, &h);
+            let side = if s.normal.dot(r.dir) < 0.0 {
+                s.normal
+            } else {
+                -s.normal
+            };
+            let o = offset_origin(s.point, side);
+            let to = light - o;
+            Some((Ray::off_surface(o, to.normalize()), to.length(), i))
+        })
+        .collect()
+}
+
 fn build(c: &mut Criterion) {
     let mut g = c.benchmark_group("build");
     g.sample_size(10)
@@ -179,6 +223,45 @@ fn traverse(c: &mut Criterion) {
                     .count()
             })
         });
+        // Coherent camera rays: one by one, then a tile (64) at a time.
+        let tiles = camera_tiles(objects, 6);
+        g.throughput(Throughput::Elements(tiles.len() as u64));
+        g.bench_function(BenchmarkId::new("camera-tiles-single", name), |b| {
+            b.iter(|| {
+                tiles
+                    .iter()
+                    .filter(|r| accel.intersect(r, f64::INFINITY).is_some())
+                    .count()
+            })
+        });
+        let mut found = vec![None; tiles.len()];
+        g.bench_function(BenchmarkId::new("camera-tiles-packet", name), |b| {
+            b.iter(|| {
+                accel.intersect_packet(&tiles, &mut found);
+                found.iter().flatten().count()
+            })
+        });
+        // Shadow rays from the tiles' hits: walked from the root, then up
+        // from the leaf of the surface they leave.
+        let from_hits = shadow_rays(&accel, objects, &tiles);
+        g.throughput(Throughput::Elements(from_hits.len() as u64));
+        g.bench_function(BenchmarkId::new("shadow-from-root", name), |b| {
+            b.iter(|| {
+                from_hits
+                    .iter()
+                    .filter(|(r, t, _)| accel.occluded(r, *t, None))
+                    .count()
+            })
+        });
+        g.bench_function(BenchmarkId::new("shadow-from-leaf", name), |b| {
+            b.iter(|| {
+                from_hits
+                    .iter()
+                    .filter(|(r, t, i)| accel.occluded_hinted(r, *t, None, Some(*i), &mut None))
+                    .count()
+            })
+        });
+        g.throughput(Throughput::Elements(BATCH as u64));
     }
     g.finish();
 }
