@@ -59,7 +59,10 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Image {
 const AA_GRID: u32 = 7;
 /// Rows per rendering task, also the side of the tiles a task walks.
 const BAND: usize = 8;
-const _: () = assert!(BAND * BAND <= PACKET_MAX, "a tile is one packet");
+const _: () = assert!(
+    BAND * BAND <= PACKET_MAX && (AA_GRID * AA_GRID) as usize <= PACKET_MAX,
+    "a tile, and a pixel's grid, are one packet each"
+);
 
 /// Renders a scene, calling `progress(done, total)` (in units of camera
 /// rays) as rows finish; returns the image and the figures.
@@ -134,6 +137,30 @@ impl Frame<'_> {
         hash: &mut u64,
     ) -> DVec3 {
         self.tracer.trace_camera(&self.ray(x, y, fx, fy), st, hash)
+    }
+
+    /// Pass 2 for pixel (x, y): the mean of the framework's 7×7 grid of
+    /// camera rays, traced as one packet.
+    fn refine(&self, x: u32, y: u32, rays: &mut RayCounts) -> DVec3 {
+        const N: usize = (AA_GRID * AA_GRID) as usize;
+        let g = AA_GRID as usize;
+        let at = |k: usize| (k % g) as f64 + 0.5;
+        let camera: [Ray; N] = std::array::from_fn(|k| {
+            let (fx, fy) = (at(k) / g as f64, at(k / g) / g as f64);
+            self.ray(x, y, fx, fy)
+        });
+        let mut states: [PathState; N] = std::array::from_fn(|k| self.state(x, y, 1 + k as u32));
+        let mut hashes = [0u64; N];
+        let mut colors = [DVec3::ZERO; N];
+        self.tracer
+            .trace_camera_packet(&camera, &mut states, &mut hashes, &mut colors);
+        // Summed in grid order, as one ray after another would be.
+        let mut sum = DVec3::ZERO;
+        for (c, st) in colors.iter().zip(&states) {
+            sum += *c;
+            rays.add(&st.rays);
+        }
+        sum / N as f64
     }
 
     /// Pass 1 over the tile of columns `xs` and rows `ys` when a pixel takes
@@ -283,19 +310,8 @@ fn render_inner(
                 let out: Vec<(DVec3, RayCounts)> = chunk
                     .iter()
                     .map(|&p| {
-                        let (x, y) = (p % w, p / w);
-                        let mut sum = DVec3::ZERO;
                         let mut rays = RayCounts::default();
-                        for a in 0..AA_GRID {
-                            for b in 0..AA_GRID {
-                                let mut st = frame.state(x, y, 1 + a * AA_GRID + b);
-                                let fx = (b as f64 + 0.5) / AA_GRID as f64;
-                                let fy = (a as f64 + 0.5) / AA_GRID as f64;
-                                sum += frame.sample(x, y, fx, fy, &mut st, &mut 0);
-                                rays.add(&st.rays);
-                            }
-                        }
-                        (sum / n as f64, rays)
+                        (frame.refine(p % w, p / w, &mut rays), rays)
                     })
                     .collect();
                 report(out.len() as u64 * n);
@@ -374,7 +390,7 @@ mod tests {
     }
 
     #[test]
-    fn packet_tiles_equal_single_rays() -> Result<(), crate::scene::SceneError> {
+    fn packets_equal_single_rays() -> Result<(), crate::scene::SceneError> {
         let scene = scene()?;
         let accel = Accel::build(&scene.objects);
         let (w, h) = (scene.camera.width, scene.camera.height);
@@ -411,6 +427,24 @@ mod tests {
             assert!(rays.camera > 0 && rays.shadow > 0);
         }
         assert_eq!(compared, 64 + 40 + 40 + 61);
+        // Pass 2: a pixel's 7×7 grid as one packet, against ray after ray.
+        for (x, y) in [(0, 0), (30, 18), (60, 36), (12, 25)] {
+            let mut rays = RayCounts::default();
+            let got = frame.refine(x, y, &mut rays);
+            let mut want = DVec3::ZERO;
+            let mut want_rays = RayCounts::default();
+            for a in 0..AA_GRID {
+                for b in 0..AA_GRID {
+                    let mut st = frame.state(x, y, 1 + a * AA_GRID + b);
+                    let fx = (b as f64 + 0.5) / AA_GRID as f64;
+                    let fy = (a as f64 + 0.5) / AA_GRID as f64;
+                    want += frame.sample(x, y, fx, fy, &mut st, &mut 0);
+                    want_rays.add(&st.rays);
+                }
+            }
+            assert_eq!(got, want / (AA_GRID * AA_GRID) as f64, "pixel {x} {y}");
+            assert_eq!(rays, want_rays);
+        }
         // Not a blank picture: many different objects were seen.
         assert!(distinct.len() > 20, "{} distinct hashes", distinct.len());
         Ok(())
