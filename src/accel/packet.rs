@@ -123,7 +123,7 @@ struct Frustum {
 
 impl Frustum {
     /// The packet's bounds, or `None` when its rays do not share an origin
-    /// or a direction component is zero or changes sign.
+    /// or a direction component is zero, subnormal or changes sign.
     fn of(rays: &[Ray]) -> Option<Frustum> {
         let first = rays.first()?;
         let origin = first.origin;
@@ -142,6 +142,11 @@ impl Frustum {
                     return None;
                 }
                 let inv = 1.0 / d;
+                if !inv.is_finite() {
+                    // A subnormal component: 0·∞ would leave a ray's slab
+                    // open where the bounds here would close it.
+                    return None;
+                }
                 f.inv_lo[a] = f.inv_lo[a].min(inv);
                 f.inv_hi[a] = f.inv_hi[a].max(inv);
             }
@@ -170,5 +175,95 @@ impl Frustum {
             t1 = t1.min((df * lo).max(df * hi));
         }
         t0 > t1 * FAR_SLACK
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+    use rand_pcg::Pcg64;
+
+    #[test]
+    fn frustum_never_culls_a_box_a_ray_enters() {
+        let mut rng = Pcg64::seed_from_u64(9);
+        let (mut culled, mut kept) = (0, 0);
+        for p in 0..3000 {
+            let signs = [0, 1, 2].map(|_| if rng.random_bool(0.5) { 1.0 } else { -1.0 });
+            // Some packets have components of extreme sizes: tiny, or subnormal
+            // (whose inverse overflows: such packets get no frustum).
+            let scale = [1.0, 1.0, 1e-12, 1e-300, 1e-310][p % 5];
+            let origin = DVec3::new(
+                rng.random_range(-3.0..3.0),
+                rng.random_range(-3.0..3.0),
+                rng.random_range(-3.0..3.0),
+            );
+            let spread = [1.0, 0.1, 1e-3][rng.random_range(0..3usize)];
+            let centre = DVec3::new(rng.random(), rng.random(), rng.random());
+            let rays: Vec<Ray> = (0..rng.random_range(1..=64))
+                .map(|_| {
+                    let mut d = DVec3::ZERO;
+                    for a in 0..3 {
+                        let m = (centre[a] + spread * rng.random_range(0.0..1.0)).max(1e-3);
+                        d[a] = signs[a] * m * if a == p % 3 { scale } else { 1.0 };
+                    }
+                    // Not normalised: the test is of the slab arithmetic alone.
+                    Ray::new(origin, d)
+                })
+                .collect();
+            let Some(f) = Frustum::of(&rays) else {
+                assert_eq!(scale, 1e-310, "only subnormal components are refused");
+                continue;
+            };
+            let rb: Vec<RayBox> = rays.iter().map(RayBox::new).collect();
+            for _ in 0..20 {
+                // Boxes around points along one of the rays, and anywhere.
+                let r = &rays[rng.random_range(0..rays.len())];
+                let at = if rng.random_bool(0.5) {
+                    r.origin + r.dir * rng.random_range(-1.0..6.0)
+                } else {
+                    DVec3::new(rng.random(), rng.random(), rng.random()) * 8.0 - 4.0
+                };
+                let c = at.as_vec3().to_array();
+                let h = [0, 1, 2].map(|_| rng.random_range(0.0f32..0.5));
+                let b = [
+                    c[0] - h[0],
+                    c[1] - h[1],
+                    c[2] - h[2],
+                    c[0] + h[0],
+                    c[1] + h[1],
+                    c[2] + h[2],
+                ];
+                let t_far = if rng.random_bool(0.5) {
+                    f64::INFINITY
+                } else {
+                    rng.random_range(0.0..8.0)
+                };
+                let any = rb.iter().any(|r| r.entry(&b, t_far) != MISS);
+                if f.misses(&b, t_far) {
+                    assert!(!any, "culled a box a ray enters: {b:?} {rays:?}");
+                    culled += 1;
+                } else {
+                    kept += 1;
+                }
+            }
+        }
+        // Both outcomes occur often.
+        assert!(culled > 5000 && kept > 5000, "{culled} culled, {kept} kept");
+    }
+
+    #[test]
+    fn subnormal_direction_on_a_box_face_is_not_culled() {
+        // The first ray runs along the plane x = 0, the box's far x face:
+        // its slab test sees (0 − 0)·∞ = NaN and leaves the slab open, so it
+        // enters the box at t = 1; a frustum with an infinite inverse would
+        // close the slab and cull the box.
+        let rays = [
+            Ray::new(DVec3::ZERO, DVec3::new(1e-310, 1.0, 0.1)),
+            Ray::new(DVec3::ZERO, DVec3::new(0.5, 1.0, 0.1)),
+        ];
+        let b = [-1.0, 1.0, -1.0, 0.0, 2.0, 1.0];
+        assert_ne!(RayBox::new(&rays[0]).entry(&b, f64::INFINITY), MISS);
+        assert!(Frustum::of(&rays).is_none_or(|f| !f.misses(&b, f64::INFINITY)));
     }
 }
