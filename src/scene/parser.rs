@@ -663,9 +663,8 @@ mod tests {
         let whole = parse_str(&String::from_utf8_lossy(bytes), Some(mem_path()), base);
         for n in SIZES {
             let chunked = parse_chunked(bytes, mem_path(), base, n);
-            if let Some(d) = difference(&whole, &chunked) {
-                panic!("{name}, read in chunks of {n} bytes: {d}");
-            }
+            let d = difference(&whole, &chunked);
+            assert_eq!(d, None, "{name}, read in chunks of {n} bytes");
         }
         whole
     }
@@ -764,8 +763,8 @@ primitive sphere
     R= 1";
 
     #[test]
-    fn blocks_split_across_chunks() {
-        let s = same_in_chunks("warned", WARNED.as_bytes()).unwrap_or_else(|e| panic!("{e}"));
+    fn blocks_split_across_chunks() -> Result<(), SceneError> {
+        let s = same_in_chunks("warned", WARNED.as_bytes())?;
         assert_eq!(s.objects.len(), 4);
         assert_eq!(s.warnings.len(), 5, "{:#?}", s.warnings);
         let e = same_in_chunks("broken", BROKEN.as_bytes()).unwrap_err();
@@ -776,6 +775,7 @@ primitive sphere
             .last()
             .map(|d| (d.line, d.column, d.message.as_str()));
         assert_eq!(last, Some((26, 1, "this block has no `end`")));
+        Ok(())
     }
 
     #[test]
@@ -799,9 +799,9 @@ primitive sphere
     }
 
     #[test]
-    fn byte_order_mark_only_at_the_start() {
+    fn byte_order_mark_only_at_the_start() -> Result<(), SceneError> {
         let bom = format!("\u{feff}{WARNED}");
-        let with = same_in_chunks("BOM", bom.as_bytes()).unwrap_or_else(|e| panic!("{e}"));
+        let with = same_in_chunks("BOM", bom.as_bytes())?;
         assert!(
             with.warnings
                 .iter()
@@ -816,10 +816,11 @@ primitive sphere
         let e = same_in_chunks("later BOM", later.as_bytes()).unwrap_err();
         let d = e.errors().map(|d| (d.line, d.source_line.as_str()));
         assert_eq!(d.collect::<Vec<_>>(), vec![(47, "\u{feff}camera")]);
+        Ok(())
     }
 
     #[test]
-    fn bytes_that_are_not_utf8() {
+    fn bytes_that_are_not_utf8() -> Result<(), SceneError> {
         // Latin-1 comments (é = 0xE9), a byte cut off a UTF-8 character just
         // before a line break, and a bad byte in a line with an error.
         let mut bytes = b"# caf\xe9 au lait\n".to_vec();
@@ -827,20 +828,21 @@ primitive sphere
         bytes.extend_from_slice(
             b"\n# \xc3\nprimitive sphere # \xe9t\xe9\n    O= 0 0 0\n    R= 1\nend\n",
         );
-        let s = same_in_chunks("latin-1", &bytes).unwrap_or_else(|e| panic!("{e}"));
+        let s = same_in_chunks("latin-1", &bytes)?;
         assert_eq!(s.objects.len(), 5);
         bytes.extend_from_slice(b"primitive sph\xe8re\nend\n");
         let e = same_in_chunks("latin-1 error", &bytes).unwrap_err();
         let d = e.errors().next().map(|d| (d.column, d.source_line.clone()));
         assert_eq!(d, Some((11, "primitive sph\u{fffd}re".to_string())));
+        Ok(())
     }
 
     #[test]
-    fn characters_of_several_bytes() {
+    fn characters_of_several_bytes() -> Result<(), SceneError> {
         let text = format!(
             "# café ☕ 日本語 🎨\n{WARNED}\nprimitive sphere // ½ 🎨\n    O= 0 0 0\n    colör= 1 1 1\n    R= 1\nend\n"
         );
-        let s = same_in_chunks("multi-byte", text.as_bytes()).unwrap_or_else(|e| panic!("{e}"));
+        let s = same_in_chunks("multi-byte", text.as_bytes())?;
         let w = s
             .warnings
             .last()
@@ -848,6 +850,7 @@ primitive sphere
         assert_eq!(w, Some((5, 6, "    colör= 1 1 1")));
         let e = same_in_chunks("multi-byte error", "日本 🎨 x\n".as_bytes()).unwrap_err();
         assert_eq!(places(&Err(e)), vec![(1, 1, "日本 🎨 x")]);
+        Ok(())
     }
 
     #[test]
@@ -869,9 +872,9 @@ primitive sphere
     }
 
     #[test]
-    fn text_after_end_and_last_lines_without_a_break() {
+    fn text_after_end_and_last_lines_without_a_break() -> Result<(), SceneError> {
         let text = "camera\nend and more\nprimitive sphere\n R= 1\nend   // done";
-        let s = same_in_chunks("after end", text.as_bytes()).unwrap_or_else(|e| panic!("{e}"));
+        let s = same_in_chunks("after end", text.as_bytes())?;
         assert_eq!(places(&Ok(s)), vec![(2, 5, "end and more")]);
         for (text, want) in [
             (
@@ -893,12 +896,13 @@ primitive sphere
             assert_eq!(first, Some(want), "{text:?}");
         }
         for text in ["", "\n", "\r\n\r\n", "\u{feff}", "  # nothing\n\n"] {
-            same_in_chunks(text, text.as_bytes()).unwrap_or_else(|e| panic!("{e}"));
+            same_in_chunks(text, text.as_bytes())?;
         }
+        Ok(())
     }
 
     #[test]
-    fn places_far_into_the_file() {
+    fn places_far_into_the_file() -> Result<(), SceneError> {
         // 300 spheres, the 250th broken: checked against numbers, not only
         // against the whole-text parse.
         let mut text = String::new();
@@ -908,10 +912,10 @@ primitive sphere
         }
         let e = same_in_chunks("300 spheres", text.as_bytes()).unwrap_err();
         assert_eq!(places(&Err(e)), vec![(249 * 4 + 3, 8, "    R= oops")]);
-        let s = same_in_chunks("300 spheres", text.replace("oops", "2").as_bytes())
-            .unwrap_or_else(|e| panic!("{e}"));
+        let s = same_in_chunks("300 spheres", text.replace("oops", "2").as_bytes())?;
         assert_eq!(s.objects.len(), 300);
         assert_eq!(s.objects.last().and_then(|o| o.block), Some(299));
+        Ok(())
     }
 
     #[test]
@@ -927,11 +931,11 @@ primitive sphere
     }
 
     #[test]
-    fn a_difference_is_caught() {
+    fn a_difference_is_caught() -> Result<(), String> {
         let base = Path::new("tests/data");
         let broken = parse_str(BROKEN, Some(mem_path()), base);
         let Err(mut e) = broken.clone() else {
-            panic!("BROKEN parses")
+            return Err("BROKEN parses".into());
         };
         assert_eq!(difference(&broken, &Err(e.clone())), None);
         // A line number off by one.
@@ -941,15 +945,18 @@ primitive sphere
         assert!(difference(&broken, &Err(e)).is_some());
         let warned = parse_str(WARNED, Some(mem_path()), base);
         let Ok(mut s) = warned.clone() else {
-            panic!("WARNED does not parse")
+            return Err("WARNED does not parse".into());
         };
         if let Some(d) = s.warnings.last_mut() {
             d.source_line.push(' ');
         }
         assert!(difference(&warned, &Ok(s.clone())).is_some());
-        let Ok(mut s) = warned.clone() else { return };
+        let Ok(mut s) = warned.clone() else {
+            return Err("WARNED does not parse".into());
+        };
         s.objects.pop();
         assert!(difference(&warned, &Ok(s)).is_some());
+        Ok(())
     }
 
     /// A reader that hands out `step` bytes at a time, failing or
@@ -1026,40 +1033,42 @@ primitive sphere
     }
 
     /// The `*.txt` scenes of `../shared/scenes/<folder>`.
-    fn shared_scenes(folder: &str) -> Vec<PathBuf> {
+    fn shared_scenes(folder: &str) -> io::Result<Vec<PathBuf>> {
         let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("../shared/scenes")
             .join(folder);
-        let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-            .unwrap_or_else(|e| panic!("cannot list {}: {e}", dir.display()))
+        let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)?
             .filter_map(|e| e.ok().map(|e| e.path()))
             .filter(|p| p.extension().is_some_and(|x| x == "txt"))
             .collect();
         files.sort();
         assert!(!files.is_empty(), "no scenes in {}", dir.display());
-        files
+        Ok(files)
     }
 
     #[test]
-    fn shared_scenes_read_in_chunks() {
-        for path in ["framework", "community"].map(shared_scenes).concat() {
-            let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    fn shared_scenes_read_in_chunks() -> io::Result<()> {
+        let mut paths = shared_scenes("framework")?;
+        paths.extend(shared_scenes("community")?);
+        for path in paths {
+            let bytes = std::fs::read(&path)?;
             let dir = path.parent().unwrap_or(Path::new("."));
             let whole = parse_str(&String::from_utf8_lossy(&bytes), Some(&path), dir);
-            match &whole {
-                Ok(s) => assert!(!s.objects.is_empty(), "{}", path.display()),
-                Err(e) => panic!("{} does not parse: {e}", path.display()),
-            }
+            let objects = whole.as_ref().map(|s| s.objects.len());
+            assert!(
+                objects.is_ok_and(|n| n > 0),
+                "{}: {objects:?}",
+                path.display()
+            );
             let from_file = Scene::from_file(&path);
-            if let Some(d) = difference(&whole, &from_file) {
-                panic!("{}: {d}", path.display());
-            }
+            let d = difference(&whole, &from_file);
+            assert_eq!(d, None, "{}", path.display());
             for n in [1, 7, 64] {
                 let chunked = parse_chunked(&bytes[..], &path, dir, n);
-                if let Some(d) = difference(&whole, &chunked) {
-                    panic!("{}, chunks of {n} bytes: {d}", path.display());
-                }
+                let d = difference(&whole, &chunked);
+                assert_eq!(d, None, "{}, chunks of {n} bytes", path.display());
             }
         }
+        Ok(())
     }
 }
