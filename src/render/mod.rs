@@ -232,22 +232,11 @@ fn render_inner(
         progress(d, total.load(Ordering::Relaxed));
     };
 
-    // Pass 1: stratified samples, or the framework's single ray and its hash.
-    // A task is a band of rows (rayon steals work, so both cores stay busy
-    // to the end), walked in small square tiles so neighbouring rays reuse
-    // the same nodes and primitives in the cache.
-    let shade = |x: u32, y: u32, rays: &mut RayCounts| -> ([f32; 3], u32) {
-        match spp {
-            Some(n) => (to_f32(stratified(&frame, x, y, n, rays)), 0),
-            None => {
-                let mut st = frame.state(x, y, 0);
-                let mut hash = 0u64;
-                let c = frame.sample(x, y, 0.5, 0.5, &mut st, &mut hash);
-                rays.add(&st.rays);
-                (to_f32(c), (hash ^ (hash >> 32)) as u32)
-            }
-        }
-    };
+    // Pass 1: stratified samples, or one ray through each pixel's centre
+    // (with the framework's hash when the anti-aliasing follows). A task is
+    // a band of rows (rayon steals work, so both cores stay busy to the
+    // end), walked in 8×8 tiles, each one packet of camera rays when a
+    // pixel takes one ray, so neighbouring rays share nodes in the cache.
     let wu = w as usize;
     let mut pixels = vec![[0f32; 3]; wu * h as usize];
     let mut hashes = vec![0u32; pixels.len()];
@@ -261,20 +250,29 @@ fn render_inner(
             let mut rays = RayCounts::default();
             for x0 in (0..wu).step_by(BAND) {
                 let x1 = (x0 + BAND).min(wu);
-                if spp.is_none_or(|n| n == 1) {
-                    let ys = y0 as u32..(y0 + rows) as u32;
-                    let mut put = |x: u32, y: u32, c: DVec3, hash: u32| {
-                        let i = (y as usize - y0) * wu + x as usize;
-                        (band_pixels[i], band_hashes[i]) = (to_f32(c), hash);
-                    };
-                    frame.centre_tile(x0 as u32..x1 as u32, ys, spp.is_none(), &mut rays, &mut put);
-                    continue;
-                }
-                for dy in 0..rows {
-                    for x in x0..x1 {
-                        let i = dy * wu + x;
-                        (band_pixels[i], band_hashes[i]) =
-                            shade(x as u32, (y0 + dy) as u32, &mut rays);
+                match spp {
+                    Some(n) if n > 1 => {
+                        for dy in 0..rows {
+                            for x in x0..x1 {
+                                let c =
+                                    stratified(&frame, x as u32, (y0 + dy) as u32, n, &mut rays);
+                                band_pixels[dy * wu + x] = to_f32(c);
+                            }
+                        }
+                    }
+                    _ => {
+                        let ys = y0 as u32..(y0 + rows) as u32;
+                        let mut put = |x: u32, y: u32, c: DVec3, hash: u32| {
+                            let i = (y as usize - y0) * wu + x as usize;
+                            (band_pixels[i], band_hashes[i]) = (to_f32(c), hash);
+                        };
+                        frame.centre_tile(
+                            x0 as u32..x1 as u32,
+                            ys,
+                            spp.is_none(),
+                            &mut rays,
+                            &mut put,
+                        );
                     }
                 }
             }
@@ -331,16 +329,10 @@ fn to_f32(c: DVec3) -> [f32; 3] {
     c.as_vec3().to_array()
 }
 
-/// `n` stratified samples in a pixel: exactly its centre for n = 1, else a
-/// jittered grid of n strata.
+/// The mean of `n` (2 or more) stratified samples in a pixel: a jittered
+/// grid of n strata. (One sample is the pixel's centre, traced in packets.)
 fn stratified(frame: &Frame, x: u32, y: u32, n: u32, rays: &mut RayCounts) -> DVec3 {
     use rand::Rng;
-    if n == 1 {
-        let mut st = frame.state(x, y, 0);
-        let c = frame.sample(x, y, 0.5, 0.5, &mut st, &mut 0);
-        rays.add(&st.rays);
-        return c;
-    }
     let (rows, cols) = crate::shading::strata(n);
     let mut sum = DVec3::ZERO;
     for r in 0..rows {
