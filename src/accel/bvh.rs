@@ -1,5 +1,6 @@
 //! A bounding volume hierarchy over boxes: binned-SAH build into a flat
-//! array of 32-byte nodes, and an ordered, allocation-free traversal.
+//! array of 32-byte nodes, and an ordered, allocation-free traversal from
+//! the root or up from a primitive's leaf.
 
 use crate::geometry::{Aabb, Ray};
 use std::cell::RefCell;

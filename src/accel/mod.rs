@@ -3,8 +3,10 @@
 //! Bounded objects sit in a bounding volume hierarchy (binned SAH, 32-byte
 //! nodes with f32 boxes rounded outward so no hit is lost); unbounded ones
 //! (planes), and any whose bounds are not finite or beyond 1e30, are tested
-//! one by one. Answers are exactly those of testing every object in index
-//! order: same object, same hit.
+//! one by one. Queries come one ray at a time, as packets of coherent rays
+//! (a tile's camera rays), or, for a ray leaving a surface, as a walk up
+//! the tree from that surface's leaf. Answers are exactly those of testing
+//! every object in index order: same object, same hit.
 
 mod bvh;
 mod packet;
