@@ -254,15 +254,8 @@ impl Bvh {
         if rb.entry(&root.bounds, *t_best) == MISS {
             return;
         }
-        // The stack lives in the thread, not in this frame: a fresh one would
-        // be zeroed (1.5 KiB) on every query, a large part of a shadow ray's cost.
-        STACK.with(|cell| match cell.try_borrow_mut() {
-            Ok(mut stack) => self.walk(&rb, root, t_best, &mut stack, leaf),
-            // Only a query made from inside another query's leaf gets here.
-            Err(_) => {
-                let mut fresh = Stack::EMPTY;
-                self.walk(&rb, root, t_best, &mut fresh, leaf)
-            }
+        with_stack(|stack| {
+            self.walk(&rb, root, t_best, stack, leaf);
         });
     }
 
@@ -285,7 +278,7 @@ impl Bvh {
             return self.traverse(ray, t_best, leaf);
         }
         let rb = RayBox::new(ray);
-        let mut up = |stack: &mut Stack| {
+        let up = |stack: &mut Stack| {
             // Subtree roots in order: the leaf, then each sibling up the path.
             let mut k = start;
             let mut root = start;
@@ -305,13 +298,7 @@ impl Bvh {
                 k = self.parent[k as usize >> 1];
             }
         };
-        STACK.with(|cell| match cell.try_borrow_mut() {
-            Ok(mut stack) => up(&mut stack),
-            Err(_) => {
-                let mut fresh = Stack::EMPTY;
-                up(&mut fresh)
-            }
-        });
+        with_stack(up);
     }
 
     /// The walk of [`Bvh::traverse`] from `root`, with a stack to use; true
@@ -389,6 +376,21 @@ impl Stack {
 thread_local! {
     /// Each thread's traversal stack, reused by every query on that thread.
     static STACK: RefCell<Stack> = const { RefCell::new(Stack::EMPTY) };
+}
+
+/// Runs `f` with this thread's traversal stack. The stack lives in the
+/// thread, not in the caller's frame: a fresh one would be zeroed (1.5 KiB)
+/// on every query, a large part of a shadow ray's cost.
+#[inline(always)]
+fn with_stack(f: impl FnOnce(&mut Stack)) {
+    STACK.with(|cell| match cell.try_borrow_mut() {
+        Ok(mut stack) => f(&mut stack),
+        // Only a query made from inside another query's leaf gets here.
+        Err(_) => {
+            let mut fresh = Stack::EMPTY;
+            f(&mut fresh)
+        }
+    });
 }
 
 /// What [`RayBox::entry`] returns for a box the ray misses.
@@ -1011,33 +1013,16 @@ mod tests {
             let left_base = base + 2;
             let right_base = left_base + 2 * mid as u32 - 2;
             let right_offset = offset + mid as u32;
-            let ((l, nl), (r, nr)) = if n >= PARALLEL_MIN {
-                rayon::join(
-                    || build_node(left, offset, left_ext, depth + 1, left_desc, left_base),
-                    || {
-                        build_node(
-                            right,
-                            right_offset,
-                            right_ext,
-                            depth + 1,
-                            right_desc,
-                            right_base,
-                        )
-                    },
-                )
-            } else {
-                (
-                    build_node(left, offset, left_ext, depth + 1, left_desc, left_base),
-                    build_node(
-                        right,
-                        right_offset,
-                        right_ext,
-                        depth + 1,
-                        right_desc,
-                        right_base,
-                    ),
-                )
-            };
+            // Sequential: the tree does not depend on the order halves are built in.
+            let (l, nl) = build_node(left, offset, left_ext, depth + 1, left_desc, left_base);
+            let (r, nr) = build_node(
+                right,
+                right_offset,
+                right_ext,
+                depth + 1,
+                right_desc,
+                right_base,
+            );
             pair[0] = l;
             pair[1] = r;
             let interior = Node {

@@ -139,28 +139,56 @@ impl Frame<'_> {
         self.tracer.trace_camera(&self.ray(x, y, fx, fy), st, hash)
     }
 
+    /// Traces `n` (at most [`PACKET_MAX`]) camera rays as one packet: ray k
+    /// is sample `sample` at sub-pixel (fx, fy) of pixel (x, y), as
+    /// `sample_of(k)` = (x, y, fx, fy, sample) gives. Calls `each(k, colour,
+    /// hash, rays)` in order.
+    fn packet(
+        &self,
+        n: usize,
+        sample_of: impl Fn(usize) -> (u32, u32, f64, f64, u32),
+        mut each: impl FnMut(usize, DVec3, u64, &RayCounts),
+    ) {
+        let n = n.min(PACKET_MAX);
+        // Slots past n hold placeholders; they are not traced.
+        let mut camera = [Ray::new(DVec3::ZERO, DVec3::Z); PACKET_MAX];
+        let mut states: [PathState; PACKET_MAX] = std::array::from_fn(|_| PathState {
+            rng: Pcg32::new(0, 0),
+            rays: RayCounts::default(),
+        });
+        for (k, (ray, st)) in camera.iter_mut().zip(&mut states).take(n).enumerate() {
+            let (x, y, fx, fy, sample) = sample_of(k);
+            (*ray, *st) = (self.ray(x, y, fx, fy), self.state(x, y, sample));
+        }
+        let mut hashes = [0u64; PACKET_MAX];
+        let mut colors = [DVec3::ZERO; PACKET_MAX];
+        self.tracer.trace_camera_packet(
+            &camera[..n],
+            &mut states[..n],
+            &mut hashes[..n],
+            &mut colors[..n],
+        );
+        for k in 0..n {
+            each(k, colors[k], hashes[k], &states[k].rays);
+        }
+    }
+
     /// Pass 2 for pixel (x, y): the mean of the framework's 7×7 grid of
     /// camera rays, traced as one packet.
     fn refine(&self, x: u32, y: u32, rays: &mut RayCounts) -> DVec3 {
-        const N: usize = (AA_GRID * AA_GRID) as usize;
         let g = AA_GRID as usize;
-        let at = |k: usize| (k % g) as f64 + 0.5;
-        let camera: [Ray; N] = std::array::from_fn(|k| {
-            let (fx, fy) = (at(k) / g as f64, at(k / g) / g as f64);
-            self.ray(x, y, fx, fy)
-        });
-        let mut states: [PathState; N] = std::array::from_fn(|k| self.state(x, y, 1 + k as u32));
-        let mut hashes = [0u64; N];
-        let mut colors = [DVec3::ZERO; N];
-        self.tracer
-            .trace_camera_packet(&camera, &mut states, &mut hashes, &mut colors);
+        let at = |k: usize| ((k % g) as f64 + 0.5) / g as f64;
         // Summed in grid order, as one ray after another would be.
         let mut sum = DVec3::ZERO;
-        for (c, st) in colors.iter().zip(&states) {
-            sum += *c;
-            rays.add(&st.rays);
-        }
-        sum / N as f64
+        self.packet(
+            g * g,
+            |k| (x, y, at(k), at(k / g), 1 + k as u32),
+            |_, c, _, r| {
+                sum += c;
+                rays.add(r);
+            },
+        );
+        sum / (g * g) as f64
     }
 
     /// Pass 1 over the tile of columns `xs` and rows `ys` when a pixel takes
@@ -175,35 +203,19 @@ impl Frame<'_> {
         mut put: impl FnMut(u32, u32, DVec3, u32),
     ) {
         let w = xs.len().max(1);
-        let n = (w * ys.len()).min(PACKET_MAX);
         let pixel = |k: usize| (xs.start + (k % w) as u32, ys.start + (k / w) as u32);
-        let camera: [Ray; PACKET_MAX] = std::array::from_fn(|k| {
-            let (x, y) = pixel(k.min(n.saturating_sub(1)));
-            self.ray(x, y, 0.5, 0.5)
-        });
-        let mut states: [PathState; PACKET_MAX] = std::array::from_fn(|k| {
-            let (x, y) = pixel(k);
-            self.state(x, y, 0)
-        });
-        let mut hashes = [0u64; PACKET_MAX];
-        let mut colors = [DVec3::ZERO; PACKET_MAX];
-        self.tracer.trace_camera_packet(
-            &camera[..n],
-            &mut states[..n],
-            &mut hashes[..n],
-            &mut colors[..n],
+        self.packet(
+            w * ys.len(),
+            |k| {
+                let (x, y) = pixel(k);
+                (x, y, 0.5, 0.5, 0)
+            },
+            |k, c, h, r| {
+                let (x, y) = pixel(k);
+                rays.add(r);
+                put(x, y, c, if with_hash { (h ^ (h >> 32)) as u32 } else { 0 });
+            },
         );
-        for k in 0..n {
-            let (x, y) = pixel(k);
-            rays.add(&states[k].rays);
-            let h = hashes[k];
-            put(
-                x,
-                y,
-                colors[k],
-                if with_hash { (h ^ (h >> 32)) as u32 } else { 0 },
-            );
-        }
     }
 }
 
