@@ -6,7 +6,7 @@ use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_m
 use glam::DVec3;
 use glint::accel::Accel;
 use glint::geometry::{Ray, Shape, Sphere, Triangle, offset_origin};
-use glint::scene::Object;
+use glint::scene::{Object, Origin};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
 use std::hint::black_box;
@@ -19,8 +19,7 @@ fn object(shape: Shape) -> Object {
     Object {
         shape,
         material: 0,
-        block: Some(0),
-        light: None,
+        origin: Origin::Block(0),
     }
 }
 

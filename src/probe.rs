@@ -48,7 +48,7 @@ impl<'a> Prober<'a> {
             point: s.point,
             normal: if front { s.normal } else { -s.normal },
             front,
-            primitive: object.block,
+            primitive: object.block(),
             uv: s.uv,
         })
     }

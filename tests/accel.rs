@@ -10,7 +10,7 @@ use glint::accel::Accel;
 use glint::geometry::{
     Bezier, Cube, Cylinder, Hit, Plane, Ray, Shape, Sphere, Square, Triangle, offset_origin,
 };
-use glint::scene::{Object, Scene};
+use glint::scene::{Object, Origin, Scene};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
 
@@ -30,7 +30,7 @@ fn brute_intersect(objects: &[Object], ray: &Ray, t_max: f64) -> Option<(u32, Hi
 /// The reference any-hit query.
 fn brute_occluded(objects: &[Object], ray: &Ray, t_max: f64, ignore_light: Option<u32>) -> bool {
     objects.iter().any(|o| {
-        let skip = ignore_light.is_some() && o.light == ignore_light;
+        let skip = ignore_light.is_some() && o.light() == ignore_light;
         !skip && o.shape.intersect(ray, 0.0, t_max).is_some()
     })
 }
@@ -39,8 +39,7 @@ fn object(shape: Shape, light: Option<u32>) -> Object {
     Object {
         shape,
         material: 0,
-        block: light.is_none().then_some(0),
-        light,
+        origin: light.map_or(Origin::Block(0), Origin::Light),
     }
 }
 
@@ -200,7 +199,7 @@ fn check_tie(accel: &Accel, objects: &[Object], ray: &Ray) -> bool {
 fn check(objects: &[Object], rays: usize, half: f64, seed: u64) {
     let accel = Accel::build(objects);
     assert_eq!(accel.objects().len(), objects.len());
-    let lights: Vec<u32> = objects.iter().filter_map(|o| o.light).collect();
+    let lights: Vec<u32> = objects.iter().filter_map(|o| o.light()).collect();
     let mut rng = Pcg64::seed_from_u64(seed);
     let mut hits = 0;
     let (mut shadows, mut blocked) = (0, 0);
@@ -214,7 +213,7 @@ fn check(objects: &[Object], rays: usize, half: f64, seed: u64) {
             hits += 1;
             // Exactly at the hit (excluded: strict), just past it, and short of it.
             t_maxes.extend([h.t, h.t.next_up(), h.t * 0.5]);
-            let l = objects[i as usize].light;
+            let l = objects[i as usize].light();
             assert_eq!(
                 accel.occluded(&ray, h.t.next_up(), l),
                 brute_occluded(objects, &ray, h.t.next_up(), l),
@@ -235,7 +234,7 @@ fn check(objects: &[Object], rays: usize, half: f64, seed: u64) {
             for t_max in [rng.random_range(0.0..2.0 * half), f64::INFINITY] {
                 for ignore in [None, l] {
                     let want = objects.iter().any(|o| {
-                        let skip = ignore.is_some() && o.light == ignore;
+                        let skip = ignore.is_some() && o.light() == ignore;
                         !skip && o.shape.intersect(&shadow, shadow.t_min, t_max).is_some()
                     });
                     let got = accel.occluded_hinted(&shadow, t_max, ignore, Some(i), &mut None);

@@ -433,7 +433,7 @@ end
     assert_eq!(
         s.objects
             .iter()
-            .map(|o| (o.block, o.light))
+            .map(|o| (o.block(), o.light()))
             .collect::<Vec<_>>(),
         vec![(None, Some(1)), (None, Some(2))]
     );
@@ -453,7 +453,7 @@ primitive plane\n N= 0 0 1\nend
 camera\nend
 primitive square\n Dx= 1 0 0\n Dy= 0 1 0\nend
 ");
-    let blocks: Vec<_> = s.objects.iter().map(|o| o.block).collect();
+    let blocks: Vec<_> = s.objects.iter().map(|o| o.block()).collect();
     assert_eq!(blocks, vec![Some(0), None, Some(1), Some(2)]);
     // The plane and the square, one after the other with the same (default)
     // material, share it; the others keep their own.
@@ -1148,7 +1148,7 @@ primitive mesh
 end";
     let s = ok(text);
     assert_eq!(s.objects.len(), 2);
-    assert_eq!(s.objects[1].block, Some(1));
+    assert_eq!(s.objects[1].block(), Some(1));
     let Shape::Triangle(t) = &s.objects[1].shape else {
         panic!("not a triangle")
     };
@@ -1227,7 +1227,7 @@ fn scene1_in_detail() {
     assert_eq!(s.lights.len(), 1);
     assert_eq!(s.objects.len(), 6);
     assert_eq!(s.textures.len(), 2);
-    let blocks: Vec<_> = s.objects.iter().map(|o| o.block.unwrap()).collect();
+    let blocks: Vec<_> = s.objects.iter().map(|o| o.block().unwrap()).collect();
     assert_eq!(blocks, vec![0, 1, 2, 3, 4, 5]);
     let glass = s.material(s.objects[0].material);
     assert_eq!(
@@ -1272,7 +1272,7 @@ fn a_large_scene_parses() {
     assert!(text.len() > 1_000_000);
     let s = ok(&text);
     assert_eq!(s.objects.len(), n);
-    assert_eq!(s.objects[n - 1].block, Some(n as u32 - 1));
+    assert_eq!(s.objects[n - 1].block(), Some(n as u32 - 1));
     assert_eq!(s.warnings.len(), n);
     assert_eq!(s.warnings[n - 1].line, 4 + 6 * (n - 1) + 4);
 }

@@ -137,7 +137,7 @@ impl<'a> Accel<'a> {
     #[inline(always)]
     fn blocks(&self, i: u32, ray: &Ray, t_max: f64, ignore_light: Option<u32>) -> bool {
         let o = &self.objects[i as usize];
-        (o.light.is_none() || o.light != ignore_light)
+        (o.light().is_none() || o.light() != ignore_light)
             && o.shape.intersect(ray, ray.t_min, t_max).is_some()
     }
 

@@ -2,7 +2,7 @@
 
 use crate::accel::{Accel, PACKET_MAX};
 use crate::geometry::{Hit, Ray, offset_origin};
-use crate::scene::{LightKind, Scene};
+use crate::scene::{LightKind, Origin, Scene};
 use crate::shading::{ShadowFrom, shade_factor};
 use glam::DVec3;
 use rand::Rng;
@@ -67,10 +67,9 @@ impl<'a> Tracer<'a> {
         let object_ids = accel
             .objects()
             .iter()
-            .map(|o| match (o.block, o.light) {
-                (Some(b), _) => mix(b as u64 + 1),
-                (None, Some(l)) => mix((l as u64 + 1) << 32),
-                (None, None) => 0,
+            .map(|o| match o.origin {
+                Origin::Block(b) => mix(b as u64 + 1),
+                Origin::Light(l) => mix((l as u64 + 1) << 32),
             })
             .collect();
         Tracer {
@@ -139,7 +138,7 @@ impl<'a> Tracer<'a> {
         if let Some(h) = hash.as_deref_mut() {
             *h = h.wrapping_add(self.object_ids[index as usize]);
         }
-        if let Some(light) = object.light {
+        if let Some(light) = object.light() {
             return scene.lights[light as usize].color.min(DVec3::ONE);
         }
         let m = scene.material(object.material);

@@ -356,18 +356,50 @@ pub enum LightKind {
     },
 }
 
-/// One renderable surface: a shape with its material.
+/// One renderable surface: a shape with its material. Exactly one cache
+/// line, so a primitive test touches one line.
 #[derive(Clone, Debug)]
+#[repr(align(64))]
 pub struct Object {
     /// The geometry.
     pub shape: Shape,
     /// Material index, for [`Scene::material`].
     pub material: u32,
+    /// The block or light it came from.
+    pub origin: Origin,
+}
+
+// A million spheres touch a million lines, not two million.
+const _: () = assert!(size_of::<Object>() == 64);
+
+/// Where an [`Object`] came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Origin {
+    /// A `primitive` block: its 0-based index in file order.
+    Block(u32),
+    /// The visible surface of area light `n` (an index into [`Scene::lights`]).
+    Light(u32),
+}
+
+impl Object {
     /// 0-based index of the `primitive` block it came from, in file order
     /// (`None` for the visible surface of an area light).
-    pub block: Option<u32>,
+    #[inline]
+    pub fn block(&self) -> Option<u32> {
+        match self.origin {
+            Origin::Block(b) => Some(b),
+            Origin::Light(_) => None,
+        }
+    }
+
     /// The light this surface emits for, if it is an area light's surface.
-    pub light: Option<u32>,
+    #[inline]
+    pub fn light(&self) -> Option<u32> {
+        match self.origin {
+            Origin::Light(l) => Some(l),
+            Origin::Block(_) => None,
+        }
+    }
 }
 
 /// A parsed and validated scene.
@@ -443,8 +475,7 @@ impl Scene {
             self.objects.push(Object {
                 shape,
                 material,
-                block: None,
-                light: Some(index),
+                origin: Origin::Light(index),
             });
         }
         self.lights.push(light);
@@ -484,8 +515,7 @@ impl Scene {
         self.objects.push(Object {
             shape,
             material,
-            block: Some(block),
-            light: None,
+            origin: Origin::Block(block),
         });
     }
 }

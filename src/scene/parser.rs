@@ -914,7 +914,7 @@ primitive sphere
         assert_eq!(places(&Err(e)), vec![(249 * 4 + 3, 8, "    R= oops")]);
         let s = same_in_chunks("300 spheres", text.replace("oops", "2").as_bytes())?;
         assert_eq!(s.objects.len(), 300);
-        assert_eq!(s.objects.last().and_then(|o| o.block), Some(299));
+        assert_eq!(s.objects.last().and_then(|o| o.block()), Some(299));
         Ok(())
     }
 
