@@ -203,6 +203,8 @@ fn check(objects: &[Object], rays: usize, half: f64, seed: u64) {
     let mut rng = Pcg64::seed_from_u64(seed);
     let mut hits = 0;
     let (mut shadows, mut blocked) = (0, 0);
+    // The blocker found by the previous hinted shadow ray.
+    let mut carried = None;
     for n in 0..rays {
         let ray = random_ray(&mut rng, objects, half);
         let expected = brute_intersect(objects, &ray, f64::INFINITY);
@@ -242,6 +244,20 @@ fn check(objects: &[Object], rays: usize, half: f64, seed: u64) {
                         got, want,
                         "ray {n}: shadow {shadow:?} from {i}, t_max {t_max}"
                     );
+                    // A hint is only a guess to try first: the blocker of an
+                    // earlier ray, or any object at all, changes nothing.
+                    let mut guess = Some(rng.random_range(0..objects.len() as u32));
+                    for hint in [&mut carried, &mut guess] {
+                        let got = accel.occluded_hinted(&shadow, t_max, ignore, Some(i), hint);
+                        assert_eq!(got, want, "ray {n}: shadow {shadow:?} hinted");
+                        // A blocked ray leaves its blocker in the hint.
+                        let b = hint.filter(|_| got).map(|b| &objects[b as usize]);
+                        if let Some(o) = b {
+                            let skip = ignore.is_some() && o.light() == ignore;
+                            let on = o.shape.intersect(&shadow, shadow.t_min, t_max).is_some();
+                            assert!(!skip && on, "ray {n}: the hint left is no blocker");
+                        }
+                    }
                     shadows += 1;
                     blocked += want as usize;
                 }

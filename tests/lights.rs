@@ -5,7 +5,7 @@
 use glam::DVec3;
 use glint::accel::Accel;
 use glint::scene::{LightKind, Scene};
-use glint::shading::{ShadowFrom, shade_factor};
+use glint::shading::{ShadowFrom, ShadowHints, shade_factor};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
 
@@ -34,7 +34,16 @@ fn estimate_at(s: &Scene, point: DVec3, samples: u32, runs: u64) -> (f64, f64) {
     let values: Vec<f64> = (0..runs)
         .map(|seed| {
             let mut rng = Pcg32::seed_from_u64(seed);
-            let (v, rays) = shade_factor(&accel, &s.lights[0], 0, &at(point), samples, &mut rng);
+            let mut hints = ShadowHints::default();
+            let (v, rays) = shade_factor(
+                &accel,
+                &s.lights[0],
+                0,
+                &at(point),
+                samples,
+                &mut rng,
+                &mut hints,
+            );
             let point = matches!(s.lights[0].kind, LightKind::Point { .. });
             assert_eq!(rays, if point { 1 } else { samples as u64 });
             v
@@ -185,11 +194,28 @@ fn light_surfaces_block_other_lights_only() {
     assert!(matches!(s.lights[1].kind, LightKind::Square { .. }));
     let accel = Accel::build(&s.objects);
     let mut rng = Pcg32::seed_from_u64(1);
+    let mut hints = ShadowHints::default();
     // The square light hides the sphere light completely.
-    let (v, _) = shade_factor(&accel, &s.lights[0], 0, &at(DVec3::ZERO), 16, &mut rng);
+    let (v, _) = shade_factor(
+        &accel,
+        &s.lights[0],
+        0,
+        &at(DVec3::ZERO),
+        16,
+        &mut rng,
+        &mut hints,
+    );
     assert_eq!(v, 0.0);
     // The square light sees itself.
-    let (v, _) = shade_factor(&accel, &s.lights[1], 1, &at(DVec3::ZERO), 16, &mut rng);
+    let (v, _) = shade_factor(
+        &accel,
+        &s.lights[1],
+        1,
+        &at(DVec3::ZERO),
+        16,
+        &mut rng,
+        &mut hints,
+    );
     assert_eq!(v, 1.0);
 }
 
@@ -391,7 +417,16 @@ fn rms_by_quality(s: &Scene, points: &[(DVec3, f64)]) -> [f64; 4] {
             .enumerate()
             .map(|(i, &(p, exact))| {
                 let mut rng = Pcg32::seed_from_u64(1_000_003 * q as u64 + i as u64);
-                let (v, _) = shade_factor(&accel, &s.lights[0], 0, &at(p), samples, &mut rng);
+                let mut hints = ShadowHints::default();
+                let (v, _) = shade_factor(
+                    &accel,
+                    &s.lights[0],
+                    0,
+                    &at(p),
+                    samples,
+                    &mut rng,
+                    &mut hints,
+                );
                 (v - exact).powi(2)
             })
             .sum();

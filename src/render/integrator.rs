@@ -3,7 +3,7 @@
 use crate::accel::{Accel, PACKET_MAX};
 use crate::geometry::{Hit, Ray, offset_origin};
 use crate::scene::{LightKind, Origin, Scene};
-use crate::shading::{ShadowFrom, shade_factor};
+use crate::shading::{ShadowFrom, ShadowHints, shade_factor};
 use glam::DVec3;
 use rand::Rng;
 use rand_pcg::Pcg32;
@@ -49,6 +49,8 @@ pub struct PathState {
     pub rng: Pcg32,
     /// Rays traced so far.
     pub rays: RayCounts,
+    /// Blockers to try first: a packet passes them on from ray to ray.
+    pub hints: ShadowHints,
 }
 
 /// Evaluates the shading model for rays in a scene.
@@ -103,6 +105,9 @@ impl<'a> Tracer<'a> {
             let found = &mut found[..rays.len()];
             self.accel.intersect_packet(rays, found);
             for (k, (ray, &hit)) in (k0..).zip(rays.iter().zip(found.iter())) {
+                if k > 0 {
+                    states[k].hints = states[k - 1].hints;
+                }
                 states[k].rays.camera += 1;
                 out[k] = self.shade(ray, hit, 1, &mut states[k], Some(&mut hashes[k]));
             }
@@ -180,6 +185,7 @@ impl<'a> Tracer<'a> {
                     &from,
                     self.shadow_samples,
                     &mut st.rng,
+                    &mut st.hints,
                 );
                 st.rays.shadow += rays;
                 if s <= 0.0 {

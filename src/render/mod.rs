@@ -10,6 +10,7 @@ use crate::accel::{Accel, PACKET_MAX};
 use crate::geometry::Ray;
 use crate::output::Image;
 use crate::scene::Scene;
+use crate::shading::ShadowHints;
 use glam::DVec3;
 use integrator::{PathState, Tracer, mix};
 use rand::SeedableRng;
@@ -114,6 +115,7 @@ impl Frame<'_> {
         PathState {
             rng: Pcg32::seed_from_u64(key),
             rays: RayCounts::default(),
+            hints: ShadowHints::default(),
         }
     }
 
@@ -155,6 +157,7 @@ impl Frame<'_> {
         let mut states: [PathState; PACKET_MAX] = std::array::from_fn(|_| PathState {
             rng: Pcg32::new(0, 0),
             rays: RayCounts::default(),
+            hints: ShadowHints::default(),
         });
         for (k, (ray, st)) in camera.iter_mut().zip(&mut states).take(n).enumerate() {
             let (x, y, fx, fy, sample) = sample_of(k);

@@ -7,6 +7,15 @@ use glam::DVec3;
 use rand::Rng;
 use std::f64::consts::TAU;
 
+/// Slots of [`ShadowHints`].
+pub const HINT_SLOTS: usize = 8;
+
+/// Per light (slot: its index modulo [`HINT_SLOTS`]), the object that last
+/// blocked a shadow ray towards it, tried first by the next one: shadow rays
+/// from nearby points mostly meet the same blocker. A stale guess, or a slot
+/// shared by two lights, costs one test; the answers never depend on it.
+pub type ShadowHints = [Option<u32>; HINT_SLOTS];
+
 /// Where shadow rays start.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ShadowFrom {
@@ -20,7 +29,8 @@ pub struct ShadowFrom {
 
 /// The shade factor s in [0, 1]: the fraction of shadow rays from `from`
 /// that reach light `index`. Point lights take one ray; area lights
-/// `samples`, stratified. Returns s and the number of shadow rays traced.
+/// `samples`, stratified. Returns s and the number of shadow rays traced;
+/// `hints` is read and updated.
 pub fn shade_factor(
     accel: &Accel,
     light: &Light,
@@ -28,6 +38,7 @@ pub fn shade_factor(
     from: &ShadowFrom,
     samples: u32,
     rng: &mut impl Rng,
+    hints: &mut ShadowHints,
 ) -> (f64, u64) {
     let origin = offset_origin(from.point, from.side);
     // Every shadow ray of this point starts here (same sliver); only its
@@ -35,19 +46,19 @@ pub fn shade_factor(
     let start = Ray::off_surface(origin, DVec3::ZERO);
     let towards = |dir: DVec3| Ray { dir, ..start };
     let leaving = from.object;
+    let blocker = &mut hints[index as usize % HINT_SLOTS];
     match light.kind {
         LightKind::Point { pos } => {
             let to = pos - origin;
             let dist = to.length();
             let blocked = dist > 0.0
-                && accel.occluded_hinted(&towards(to / dist), dist, None, leaving, &mut None);
+                && accel.occluded_hinted(&towards(to / dist), dist, None, leaving, blocker);
             (if blocked { 0.0 } else { 1.0 }, 1)
         }
         LightKind::Square { center, dx, dy } => {
             let (rows, cols) = strata(samples);
             let (cell_a, cell_b) = (2.0 / cols as f64, 2.0 / rows as f64);
             let mut lit = 0u32;
-            let mut blocker = None;
             for r in 0..rows {
                 for c in 0..cols {
                     let a = (c as f64 + rng.random::<f64>()) * cell_a - 1.0;
@@ -60,7 +71,7 @@ pub fn shade_factor(
                             dist,
                             Some(index),
                             leaving,
-                            &mut blocker,
+                            blocker,
                         )
                     {
                         lit += 1;
@@ -84,7 +95,6 @@ pub fn shade_factor(
             let tangent = (d2 - radius * radius).max(0.0).sqrt();
             let (rows, cols) = strata(samples);
             let mut lit = 0u32;
-            let mut blocker = None;
             for r in 0..rows {
                 for c in 0..cols {
                     // Uniform in solid angle over the cone: cos θ uniform in [cos_max, 1].
@@ -97,7 +107,7 @@ pub fn shade_factor(
                     let ray = towards(dir);
                     // Up to the light's surface (the tangent distance for rounding at the rim).
                     let t_light = sphere.roots(&ray).map_or(tangent, |(t0, _)| t0);
-                    if !accel.occluded_hinted(&ray, t_light, Some(index), leaving, &mut blocker) {
+                    if !accel.occluded_hinted(&ray, t_light, Some(index), leaving, blocker) {
                         lit += 1;
                     }
                 }
