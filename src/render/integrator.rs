@@ -59,27 +59,16 @@ pub struct Tracer<'a> {
     accel: &'a Accel<'a>,
     shadow_samples: u32,
     glossy_samples: u32,
-    /// Per-object and per-light values summed into a pixel's hash.
-    object_ids: Vec<u64>,
 }
 
 impl<'a> Tracer<'a> {
     /// A tracer over `scene` using `accel` for ray queries.
     pub fn new(scene: &'a Scene, accel: &'a Accel<'a>) -> Self {
-        let object_ids = accel
-            .objects()
-            .iter()
-            .map(|o| match o.origin {
-                Origin::Block(b) => mix(b as u64 + 1),
-                Origin::Light(l) => mix((l as u64 + 1) << 32),
-            })
-            .collect();
         Tracer {
             scene,
             accel,
             shadow_samples: 16 * scene.camera.shade_quality.max(1),
             glossy_samples: 16 * scene.camera.drefl_quality.max(1),
-            object_ids,
         }
     }
 
@@ -141,7 +130,7 @@ impl<'a> Tracer<'a> {
         };
         let object = &self.accel.objects()[index as usize];
         if let Some(h) = hash.as_deref_mut() {
-            *h = h.wrapping_add(self.object_ids[index as usize]);
+            *h = h.wrapping_add(object_id(object.origin));
         }
         if let Some(light) = object.light() {
             return scene.lights[light as usize].color.min(DVec3::ONE);
@@ -295,6 +284,17 @@ fn glossy_direction(
         dir -= side * (2.0 * below);
     }
     dir
+}
+
+/// What an object adds to a pixel's hash: a value per block and per area
+/// light (computed on the spot: a table of them would cost a cache miss per
+/// hit in a large scene).
+#[inline]
+fn object_id(origin: Origin) -> u64 {
+    match origin {
+        Origin::Block(b) => mix(b as u64 + 1),
+        Origin::Light(l) => mix((l as u64 + 1) << 32),
+    }
 }
 
 /// A 64-bit mix (splitmix64's finaliser).
