@@ -47,7 +47,7 @@ run() {
   bvh=$(sed -E 's/.*, ([0-9.]+) s BVH\).*/\1/' <<< "$summary")
   rays=$(sed -E 's/.*, ([0-9.]+) M rays.*/\1/' <<< "$summary")
   mrays=$(sed -E 's/.*, ([0-9.]+) Mrays\/s.*/\1/' <<< "$summary")
-  trace=$(awk -v r="$render" -v b="$bvh" 'BEGIN {printf "%.2f", r - b}')
+  trace=$(awk -v r="$render" -v b="$bvh" 'BEGIN {printf "%.3f", r - b}')
   read -r wall kib < "$work/time"
   printf '| %-22s | %-9s | %7s | %8s | %6s | %7s | %8s | %7s | %8.0f |\n' "$name" "$size" "$wall" "$render" "$bvh" "$trace" "$rays" "$mrays" "$((kib / 1024))"
 }
