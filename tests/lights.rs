@@ -22,6 +22,30 @@ fn scene(text: &str) -> Scene {
     Scene::parse(text, ".").unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// The shade factor of light `light` at `point` (on a surface facing +z)
+/// and the rays it took, from its own random stream `seed`.
+fn factor(
+    accel: &Accel,
+    s: &Scene,
+    light: usize,
+    point: DVec3,
+    samples: u32,
+    seed: u64,
+) -> (f64, u64) {
+    let mut rng = Pcg32::seed_from_u64(seed);
+    let mut hints = ShadowHints::default();
+    let l = &s.lights[light];
+    shade_factor(
+        accel,
+        l,
+        light as u32,
+        &at(point),
+        samples,
+        &mut rng,
+        &mut hints,
+    )
+}
+
 /// Mean and standard deviation of the shade factor at the origin over many seeds.
 fn estimate(s: &Scene, samples: u32, runs: u64) -> (f64, f64) {
     estimate_at(s, DVec3::ZERO, samples, runs)
@@ -33,17 +57,7 @@ fn estimate_at(s: &Scene, point: DVec3, samples: u32, runs: u64) -> (f64, f64) {
     let accel = Accel::build(&s.objects);
     let values: Vec<f64> = (0..runs)
         .map(|seed| {
-            let mut rng = Pcg32::seed_from_u64(seed);
-            let mut hints = ShadowHints::default();
-            let (v, rays) = shade_factor(
-                &accel,
-                &s.lights[0],
-                0,
-                &at(point),
-                samples,
-                &mut rng,
-                &mut hints,
-            );
+            let (v, rays) = factor(&accel, s, 0, point, samples, seed);
             let point = matches!(s.lights[0].kind, LightKind::Point { .. });
             assert_eq!(rays, if point { 1 } else { samples as u64 });
             v
@@ -193,30 +207,10 @@ fn light_surfaces_block_other_lights_only() {
     );
     assert!(matches!(s.lights[1].kind, LightKind::Square { .. }));
     let accel = Accel::build(&s.objects);
-    let mut rng = Pcg32::seed_from_u64(1);
-    let mut hints = ShadowHints::default();
     // The square light hides the sphere light completely.
-    let (v, _) = shade_factor(
-        &accel,
-        &s.lights[0],
-        0,
-        &at(DVec3::ZERO),
-        16,
-        &mut rng,
-        &mut hints,
-    );
-    assert_eq!(v, 0.0);
+    assert_eq!(factor(&accel, &s, 0, DVec3::ZERO, 16, 1).0, 0.0);
     // The square light sees itself.
-    let (v, _) = shade_factor(
-        &accel,
-        &s.lights[1],
-        1,
-        &at(DVec3::ZERO),
-        16,
-        &mut rng,
-        &mut hints,
-    );
-    assert_eq!(v, 1.0);
+    assert_eq!(factor(&accel, &s, 1, DVec3::ZERO, 16, 2).0, 1.0);
 }
 
 // ---------------------------------------------------------------------------
@@ -416,17 +410,8 @@ fn rms_by_quality(s: &Scene, points: &[(DVec3, f64)]) -> [f64; 4] {
             .iter()
             .enumerate()
             .map(|(i, &(p, exact))| {
-                let mut rng = Pcg32::seed_from_u64(1_000_003 * q as u64 + i as u64);
-                let mut hints = ShadowHints::default();
-                let (v, _) = shade_factor(
-                    &accel,
-                    &s.lights[0],
-                    0,
-                    &at(p),
-                    samples,
-                    &mut rng,
-                    &mut hints,
-                );
+                let seed = 1_000_003 * q as u64 + i as u64;
+                let (v, _) = factor(&accel, s, 0, p, samples, seed);
                 (v - exact).powi(2)
             })
             .sum();
