@@ -445,11 +445,16 @@ fn parse_entry(e: &Entry<'_>, name: &'static str, kind: Kind, diags: &mut Diags)
             site,
         });
     }
-    let mut numbers = Vec::with_capacity(e.values.len());
+    // No kind takes more than 3 numbers; with more, the count is an error.
+    let mut numbers = [0.0; 3];
     let mut ok = true;
-    for w in &e.values {
+    for (k, w) in e.values.iter().enumerate() {
         match parse_number(w.text) {
-            Ok(x) => numbers.push(x),
+            Ok(x) => {
+                if let Some(slot) = numbers.get_mut(k) {
+                    *slot = x;
+                }
+            }
             Err(err) => {
                 ok = false;
                 let message = match err {

@@ -1,7 +1,7 @@
 //! Splits scene text into lines of words, dropping comments, keeping each
 //! word's column so diagnostics can point at it. Comments are `#` and `//`,
 //! anywhere in a line; only a `//` inside a `texture=` / `file=` path is
-//! kept (the rule is on [`words`]).
+//! kept (the rule is on [`words_into`]).
 
 /// One whitespace-separated word of a line.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -35,28 +35,36 @@ impl<'a> Word<'a> {
 }
 
 /// One line of the file: its text (without the line break) and its words
-/// before any comment.
-#[derive(Clone, Debug)]
-pub(crate) struct Line<'a> {
+/// before any comment, which live in the [`Lexer`]'s buffer until the next line.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Line<'a, 'w> {
     /// Byte offset of the line's start in the lexed text.
     pub start: usize,
     /// The line's text, for excerpts.
     pub text: &'a str,
     /// The words before any comment.
-    pub words: Vec<Word<'a>>,
+    pub words: &'w [Word<'a>],
 }
 
 /// Splits `text` into lines (`\n`, `\r\n` or a lone `\r` end a line),
 /// lazily: a million-primitive file is never held as a list of lines.
 pub(crate) fn split_lines(text: &str) -> impl Iterator<Item = &str> {
-    line_spans(text).map(|(_, line)| line)
+    Spans { text, start: 0 }.map(|(_, line)| line)
 }
 
-/// [`split_lines`], each line with the byte offset of its start.
-fn line_spans(text: &str) -> impl Iterator<Item = (usize, &str)> {
-    let bytes = text.as_bytes();
-    let mut start = 0;
-    std::iter::from_fn(move || {
+/// The lines of a text, each with the byte offset of its start.
+struct Spans<'a> {
+    text: &'a str,
+    /// Where the next line starts.
+    start: usize,
+}
+
+impl<'a> Iterator for Spans<'a> {
+    type Item = (usize, &'a str);
+
+    fn next(&mut self) -> Option<(usize, &'a str)> {
+        let (text, start) = (self.text, self.start);
+        let bytes = text.as_bytes();
         // A final line without a line break still counts; an empty tail does not.
         if start >= bytes.len() {
             return None;
@@ -69,13 +77,12 @@ fn line_spans(text: &str) -> impl Iterator<Item = (usize, &str)> {
             Some(k) => (start + k, start + k + 1),
             None => (bytes.len(), bytes.len()),
         };
-        let line = (start, &text[start..line_end]);
-        start = next;
-        Some(line)
-    })
+        self.start = next;
+        Some((start, &text[start..line_end]))
+    }
 }
 
-/// Keys whose value is a file path (see [`words`]).
+/// Keys whose value is a file path (see [`words_into`]).
 const PATH_KEYS: [&str; 2] = ["texture", "file"];
 
 /// Byte offset just after the `=` when the line's key is a path key
@@ -94,7 +101,7 @@ fn path_value_start(line: &str) -> Option<usize> {
         .then_some(lead + key_len + gap + 1)
 }
 
-/// The words of one line, before any comment.
+/// The words of one line, before any comment, into `out` (cleared first).
 ///
 /// A comment starts at any `#`, and at any `//`, even one glued to a value
 /// (`O= 0 5 0// centre`, `end// sphere`, `R= 1#x`), as the spec allows both
@@ -104,8 +111,8 @@ fn path_value_start(line: &str) -> Option<usize> {
 /// comment at the start of a word or when a blank or the end of the line
 /// follows it (`wood.bmp// oak`, `wood.bmp//`), since no file path ends in
 /// `//`. A `#` always starts a comment, in paths too.
-pub(crate) fn words(line: &str) -> Vec<Word<'_>> {
-    let mut out = Vec::new();
+pub(crate) fn words_into<'a>(line: &'a str, out: &mut Vec<Word<'a>>) {
+    out.clear();
     // Where a path value starts, on a `texture=` / `file=` line.
     let path = path_value_start(line);
     // (byte start, column) of the word being read.
@@ -116,20 +123,19 @@ pub(crate) fn words(line: &str) -> Vec<Word<'_>> {
         let comment = c == '#'
             || (c == '/' && line[i..].starts_with("//") && !inside_path(line, path, current, i));
         if comment {
-            close(&mut out, line, current, i, col);
-            return out;
+            close(out, line, current, i, col);
+            return;
         }
         if c.is_whitespace() {
-            close(&mut out, line, current.take(), i, col);
+            close(out, line, current.take(), i, col);
         } else if current.is_none() {
             current = Some((i, col));
         }
     }
-    close(&mut out, line, current, line.len(), col + 1);
-    out
+    close(out, line, current, line.len(), col + 1);
 }
 
-/// Whether the `//` at byte `i` is part of a path (see [`words`]): after
+/// Whether the `//` at byte `i` is part of a path (see [`words_into`]): after
 /// the first character of the path value, inside a word, and followed by
 /// more than a blank or the end of the line.
 fn inside_path(line: &str, path: Option<usize>, current: Option<(usize, usize)>, i: usize) -> bool {
@@ -170,17 +176,48 @@ pub(crate) fn strip_bom(text: &str) -> &str {
 
 /// Lexes text line by line, as it is: a byte-order mark is the caller's
 /// business ([`strip_bom`]), as the text may be a later piece of a file.
-pub(crate) fn lex(text: &str) -> impl Iterator<Item = Line<'_>> {
-    line_spans(text).map(|(start, l)| Line {
-        start,
-        text: l,
-        words: words(l),
-    })
+/// One buffer holds the words of the current line: no allocation per line.
+pub(crate) struct Lexer<'a> {
+    spans: Spans<'a>,
+    words: Vec<Word<'a>>,
+}
+
+impl<'a> Lexer<'a> {
+    /// A lexer at the start of `text`.
+    pub(crate) fn new(text: &'a str) -> Self {
+        Lexer {
+            spans: Spans { text, start: 0 },
+            words: Vec::new(),
+        }
+    }
+
+    /// The next line, or `None` at the end of the text.
+    pub(crate) fn next_line(&mut self) -> Option<Line<'a, '_>> {
+        let (start, text) = self.spans.next()?;
+        words_into(text, &mut self.words);
+        Some(Line {
+            start,
+            text,
+            words: &self.words,
+        })
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn words(line: &str) -> Vec<Word<'_>> {
+        let mut out = Vec::new();
+        words_into(line, &mut out);
+        out
+    }
+
+    /// Every line of `text` with its start.
+    fn lex(text: &str) -> Vec<(usize, &str)> {
+        let mut lexer = Lexer::new(text);
+        std::iter::from_fn(|| lexer.next_line().map(|l| (l.start, l.text))).collect()
+    }
 
     fn texts(line: &str) -> Vec<(&str, usize, usize)> {
         words(line)
@@ -276,13 +313,13 @@ mod tests {
 
     #[test]
     fn line_starts_and_byte_order_marks() {
-        let starts: Vec<_> = lex("a\r\nbé\rc\n\nd").map(|l| (l.start, l.text)).collect();
+        let starts = lex("a\r\nbé\rc\n\nd");
         assert_eq!(
             starts,
             vec![(0, "a"), (3, "bé"), (7, "c"), (9, ""), (10, "d")]
         );
         // Only `strip_bom` drops the mark: a later piece of a file keeps it.
-        assert_eq!(lex("\u{feff}a").next().map(|l| l.text), Some("\u{feff}a"));
+        assert_eq!(lex("\u{feff}a"), vec![(0, "\u{feff}a")]);
         assert_eq!(strip_bom("\u{feff}\u{feff}a"), "\u{feff}a");
         assert_eq!(strip_bom("a\u{feff}"), "a\u{feff}");
     }

@@ -288,9 +288,10 @@ impl<'p> Reader<'p> {
         let mut open: Option<Open<'_>> = None;
         let mut mark = Mark::default();
 
-        for (k, line) in lexer::lex(text).enumerate() {
-            let i = first_line + k;
-            lines = k + 1;
+        let mut lexer = lexer::Lexer::new(text);
+        while let Some(line) = lexer.next_line() {
+            let i = first_line + lines;
+            lines += 1;
             let line = &line;
             let Some(first) = line.words.first() else {
                 continue;
@@ -399,7 +400,7 @@ impl<'p> Reader<'p> {
 
 /// Reads a header line; `None` (with no diagnostic) when the first word is
 /// not a header word, `Some` with `kind: None` when it is but its type is wrong.
-fn header<'a>(i: usize, line: &Line<'a>, diags: &mut Diags) -> Option<Open<'a>> {
+fn header<'a>(i: usize, line: &Line<'a, '_>, diags: &mut Diags) -> Option<Open<'a>> {
     let first = line.words.first()?;
     let (kind, used) = match first.text {
         "background" => (Some(BlockKind::Background), 1),
@@ -469,7 +470,7 @@ fn header<'a>(i: usize, line: &Line<'a>, diags: &mut Diags) -> Option<Open<'a>> 
 }
 
 /// Reads one line inside a block into an [`Entry`] (or diagnoses it).
-fn read_line<'a>(block: &mut Open<'a>, i: usize, line: &Line<'a>, diags: &mut Diags) {
+fn read_line<'a>(block: &mut Open<'a>, i: usize, line: &Line<'a, '_>, diags: &mut Diags) {
     let Some(kind) = block.kind else {
         return;
     };
@@ -525,7 +526,7 @@ fn read_line<'a>(block: &mut Open<'a>, i: usize, line: &Line<'a>, diags: &mut Di
 }
 
 /// A line inside a block whose first word is not `key=`.
-fn bare_word(kind: BlockKind, i: usize, line: &Line<'_>, diags: &mut Diags) {
+fn bare_word(kind: BlockKind, i: usize, line: &Line<'_, '_>, diags: &mut Diags) {
     let Some(first) = line.words.first() else {
         return;
     };
