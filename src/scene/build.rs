@@ -22,6 +22,7 @@ use crate::geometry::{Bezier, Cube, Cylinder, Plane, Shape, Sphere, Square, Tria
 use crate::shading::Texture;
 use glam::{DVec2, DVec3};
 use std::collections::HashMap;
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 /// The `light TYPE`s.
@@ -275,8 +276,8 @@ pub(crate) struct Entry<'a> {
     pub key: &'a str,
     /// Where the key (with its `=`) is.
     pub key_site: Site,
-    /// The words after `=`.
-    pub values: Vec<Word<'a>>,
+    /// Where the words after `=` lie in the block's list of values.
+    pub values: Range<usize>,
     /// 0-based line index.
     pub line: usize,
     /// The line's text (for values that are the rest of the line).
@@ -415,9 +416,16 @@ fn describe(name: &str, kind: Kind) -> &'static str {
 }
 
 /// Parses an entry's values as `kind`, reporting what is wrong.
-fn parse_entry(e: &Entry<'_>, name: &'static str, kind: Kind, diags: &mut Diags) -> Option<Field> {
+fn parse_entry(
+    e: &Entry<'_>,
+    values: &[Word<'_>],
+    name: &'static str,
+    kind: Kind,
+    diags: &mut Diags,
+) -> Option<Field> {
+    let values = values.get(e.values.clone()).unwrap_or_default();
     let line = e.line;
-    let site = match e.values.last() {
+    let site = match values.last() {
         Some(last) => Site {
             line,
             col: e.key_site.col,
@@ -426,7 +434,7 @@ fn parse_entry(e: &Entry<'_>, name: &'static str, kind: Kind, diags: &mut Diags)
         None => e.key_site,
     };
     let what = describe(name, kind);
-    let (Some(first), Some(last)) = (e.values.first(), e.values.last()) else {
+    let (Some(first), Some(last)) = (values.first(), values.last()) else {
         diags.error(
             e.key_site,
             format!("`{}=` expects {what}, found nothing", e.key),
@@ -448,7 +456,7 @@ fn parse_entry(e: &Entry<'_>, name: &'static str, kind: Kind, diags: &mut Diags)
     // No kind takes more than 3 numbers; with more, the count is an error.
     let mut numbers = [0.0; 3];
     let mut ok = true;
-    for (k, w) in e.values.iter().enumerate() {
+    for (k, w) in values.iter().enumerate() {
         match parse_number(w.text) {
             Ok(x) => {
                 if let Some(slot) = numbers.get_mut(k) {
@@ -470,7 +478,7 @@ fn parse_entry(e: &Entry<'_>, name: &'static str, kind: Kind, diags: &mut Diags)
             }
         }
     }
-    let n = e.values.len();
+    let n = values.len();
     let counts: &[usize] = match kind {
         Num | Count => &[1],
         Vec2 => &[2],
@@ -480,7 +488,7 @@ fn parse_entry(e: &Entry<'_>, name: &'static str, kind: Kind, diags: &mut Diags)
     };
     let max = counts.iter().copied().max().unwrap_or(1);
     if n > max {
-        let extra = &e.values[max];
+        let extra = &values[max];
         diags.error(
             Site::span(line, extra, last),
             format!("`{}=` expects {what}, found {n}", e.key),
@@ -558,6 +566,8 @@ pub(crate) struct Builder<'p> {
     next_block: u32,
     cameras: u32,
     backgrounds: u32,
+    /// The last block's fields, emptied: no allocation per block.
+    spare: Fields,
 }
 
 impl<'p> Builder<'p> {
@@ -572,6 +582,7 @@ impl<'p> Builder<'p> {
             next_block: 0,
             cameras: 0,
             backgrounds: 0,
+            spare: Fields::default(),
         }
     }
 
@@ -593,13 +604,16 @@ impl<'p> Builder<'p> {
         kind: BlockKind,
         header: Site,
         entries: &[Entry<'_>],
+        values: &[Word<'_>],
         index: u32,
         diags: &mut Diags,
     ) {
-        let mut fields = Fields::default();
+        let mut fields = std::mem::take(&mut self.spare);
+        fields.list.clear();
+        fields.failed.clear();
         for e in entries {
             match kind.lookup(e.key) {
-                Some((name, k)) => match parse_entry(e, name, k, diags) {
+                Some((name, k)) => match parse_entry(e, values, name, k, diags) {
                     Some(f) => fields.list.push(f),
                     None => fields.failed.push(name),
                 },
@@ -635,6 +649,7 @@ impl<'p> Builder<'p> {
             BlockKind::Light(t) => self.light(t, &mut b),
             BlockKind::Primitive(t) => self.primitive(t, index, &mut b),
         }
+        self.spare = b.fields;
     }
 
     fn background(&mut self, b: &mut Block<'_>) {

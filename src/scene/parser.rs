@@ -205,8 +205,12 @@ fn parse_chunked(
             }
         };
         let piece = raw.get(..cut).unwrap_or_default();
-        // Old files carry Latin-1 comments; those bytes only ever matter in comments.
-        let piece = String::from_utf8_lossy(piece);
+        // Old files carry Latin-1 comments; those bytes only ever matter in
+        // comments. (`from_utf8` first: its check of valid text is faster.)
+        let piece = match std::str::from_utf8(piece) {
+            Ok(valid) => std::borrow::Cow::Borrowed(valid),
+            Err(_) => String::from_utf8_lossy(piece),
+        };
         text.push_str(if start_of_file {
             lexer::strip_bom(&piece)
         } else {
@@ -235,6 +239,8 @@ struct Open<'a> {
     kind: Option<BlockKind>,
     header: Site,
     entries: Vec<Entry<'a>>,
+    /// The values of all its entries, which hold ranges of it.
+    values: Vec<Word<'a>>,
     /// Whether it is a `primitive` block (they are numbered when finished).
     primitive: bool,
 }
@@ -286,6 +292,7 @@ impl<'p> Reader<'p> {
         let first_diag = self.diags.out.len();
         let mut lines = 0;
         let mut open: Option<Open<'_>> = None;
+        let mut spare = (Vec::new(), Vec::new());
         let mut mark = Mark::default();
 
         let mut lexer = lexer::Lexer::new(text);
@@ -307,7 +314,7 @@ impl<'p> Reader<'p> {
                         );
                     }
                     if let Some(block) = open.take() {
-                        finish(block, &mut self.builder, &mut self.diags);
+                        spare = finish(block, &mut self.builder, &mut self.diags);
                     }
                     continue;
                 }
@@ -322,7 +329,7 @@ impl<'p> Reader<'p> {
                     Some(format!("expected a line `end` before line {}", i + 1)),
                 );
                 if let Some(block) = open.take() {
-                    finish(block, &mut self.builder, &mut self.diags);
+                    spare = finish(block, &mut self.builder, &mut self.diags);
                 }
             }
             if first.text == "end" {
@@ -340,7 +347,9 @@ impl<'p> Reader<'p> {
                 errors: self.diags.errors,
             };
             match header(i, line, &mut self.diags) {
-                Some(block) => {
+                Some(mut block) => {
+                    // The last block's vectors, emptied: no allocation per block.
+                    (block.entries, block.values) = std::mem::take(&mut spare);
                     open = Some(block);
                     self.skipping = false;
                 }
@@ -465,6 +474,7 @@ fn header<'a>(i: usize, line: &Line<'a, '_>, diags: &mut Diags) -> Option<Open<'
         kind,
         header: Site::span(i, first, header_end),
         entries: Vec::new(),
+        values: Vec::new(),
         primitive: first.text == "primitive",
     })
 }
@@ -478,36 +488,30 @@ fn read_line<'a>(block: &mut Open<'a>, i: usize, line: &Line<'a, '_>, diags: &mu
         return;
     };
     let rest = line.words.get(1..).unwrap_or(&[]);
-    let (key, key_site, values): (&str, Site, Vec<Word<'a>>) =
-        if let Some(eq) = first.text.find('=') {
-            // `key= v ...` or `key=v ...`.
-            let key = &first.text[..eq];
-            let key_chars = key.chars().count();
-            let mut values = Vec::with_capacity(rest.len() + 1);
-            let glued = first.split_off(key_chars + 1);
-            if !glued.text.is_empty() {
-                values.push(glued);
-            }
-            values.extend_from_slice(rest);
-            let site = Site {
-                line: i,
-                col: first.col,
-                len: key_chars + 1,
-            };
-            (key, site, values)
-        } else if let Some(eq) = rest.first().filter(|w| w.text.starts_with('=')) {
-            // `key = v ...` or `key =v ...`.
-            let mut values = Vec::with_capacity(rest.len());
-            let glued = eq.split_off(1);
-            if !glued.text.is_empty() {
-                values.push(glued);
-            }
-            values.extend_from_slice(&rest[1..]);
-            (first.text, Site::span(i, first, eq), values)
-        } else {
-            bare_word(kind, i, line, diags);
-            return;
+    // The words after `=`: the rest of a word glued to it, then the others.
+    let (key, key_site, glued, rest) = if let Some(eq) = first.text.find('=') {
+        // `key= v ...` or `key=v ...`.
+        let key = &first.text[..eq];
+        let key_chars = key.chars().count();
+        let site = Site {
+            line: i,
+            col: first.col,
+            len: key_chars + 1,
         };
+        (key, site, first.split_off(key_chars + 1), rest)
+    } else if let Some(eq) = rest.first().filter(|w| w.text.starts_with('=')) {
+        // `key = v ...` or `key =v ...`.
+        let site = Site::span(i, first, eq);
+        (
+            first.text,
+            site,
+            eq.split_off(1),
+            rest.get(1..).unwrap_or(&[]),
+        )
+    } else {
+        bare_word(kind, i, line, diags);
+        return;
+    };
     if key.is_empty() {
         diags.error(
             key_site,
@@ -516,10 +520,15 @@ fn read_line<'a>(block: &mut Open<'a>, i: usize, line: &Line<'a, '_>, diags: &mu
         );
         return;
     }
+    let start = block.values.len();
+    if !glued.text.is_empty() {
+        block.values.push(glued);
+    }
+    block.values.extend_from_slice(rest);
     block.entries.push(Entry {
         key,
         key_site,
-        values,
+        values: start..block.values.len(),
         line: i,
         raw: line.text,
     });
@@ -582,8 +591,12 @@ fn bare_word(kind: BlockKind, i: usize, line: &Line<'_, '_>, diags: &mut Diags) 
     );
 }
 
-/// Hands a complete block to the builder.
-fn finish(block: Open<'_>, builder: &mut Builder<'_>, diags: &mut Diags) {
+/// Hands a complete block to the builder; returns its vectors, emptied.
+fn finish<'a>(
+    mut block: Open<'a>,
+    builder: &mut Builder<'_>,
+    diags: &mut Diags,
+) -> (Vec<Entry<'a>>, Vec<Word<'a>>) {
     // Numbered here, not at the header: a block read again with the next
     // piece of the file must not take a second number. Blocks finish in file order.
     let index = if block.primitive {
@@ -592,8 +605,18 @@ fn finish(block: Open<'_>, builder: &mut Builder<'_>, diags: &mut Diags) {
         0
     };
     if let Some(kind) = block.kind {
-        builder.block(kind, block.header, &block.entries, index, diags);
+        builder.block(
+            kind,
+            block.header,
+            &block.entries,
+            &block.values,
+            index,
+            diags,
+        );
     }
+    block.entries.clear();
+    block.values.clear();
+    (block.entries, block.values)
 }
 
 #[cfg(test)]
