@@ -693,6 +693,68 @@ mod tests {
         whole
     }
 
+    /// Words scene files are made of, right and wrong, glued or not, with
+    /// comments (`#`, `//`) and a path that holds `//`.
+    const TOKENS: [&str; 26] = [
+        "camera",
+        "background",
+        "light",
+        "point",
+        "square",
+        "primitive",
+        "sphere",
+        "plane",
+        "bezier",
+        "end",
+        "O=",
+        "R=",
+        "N=",
+        "color=",
+        "diff=",
+        "top=",
+        "=",
+        "1",
+        "-2.5e3",
+        "x",
+        "é",
+        "#c",
+        "//c",
+        "end//",
+        "O=1",
+        "texture= a//b.bmp",
+    ];
+    /// What separates them: blanks and every kind of line break.
+    const SEPARATORS: [&str; 5] = [" ", "\t", "\n", "\r\n", "\r"];
+
+    proptest::proptest! {
+        #![proptest_config(proptest::test_runner::Config {
+            cases: 2000,
+            failure_persistence: None,
+            rng_seed: proptest::test_runner::RngSeed::Fixed(23),
+            ..proptest::test_runner::Config::default()
+        })]
+
+        /// Any text made of scene words parses without a panic, and read in
+        /// chunks of any size it gives exactly what it gives read whole.
+        #[test]
+        fn any_text_parses_alike_in_chunks(
+            parts in proptest::collection::vec((0..TOKENS.len(), 0..SEPARATORS.len()), 0..120)
+        ) {
+            let text: String = parts
+                .iter()
+                .map(|&(t, s)| format!("{}{}", TOKENS[t], SEPARATORS[s]))
+                .collect();
+            let parsed = same_in_chunks(&format!("{text:?}"), text.as_bytes());
+            // Every diagnostic points at a line of the text and quotes it.
+            let lines: Vec<&str> = lexer::split_lines(&text).collect();
+            for d in diags_of(&parsed) {
+                let quoted = d.line.checked_sub(1).and_then(|k| lines.get(k));
+                proptest::prop_assert_eq!(quoted, Some(&d.source_line.as_str()), "{:?}", d);
+                proptest::prop_assert!(d.column >= 1);
+            }
+        }
+    }
+
     /// The diagnostics of a parse, errors and warnings alike.
     fn diags_of(r: &Result<Scene, SceneError>) -> &[Diagnostic] {
         match r {
