@@ -117,7 +117,9 @@ impl Image {
     pub fn to_rgb8(&self) -> Vec<u8> {
         self.pixels
             .iter()
-            .flat_map(|p| p.map(|c| (255.0 * c.clamp(0.0, 1.0)).floor() as u8))
+            // The cast truncates, which is the floor on [0, 255] (and NaN
+            // gives 0 either way), without a call to `floorf`.
+            .flat_map(|p| p.map(|c| (255.0 * c.clamp(0.0, 1.0)) as u8))
             .collect()
     }
 
@@ -204,6 +206,9 @@ mod tests {
             img.to_rgb8(),
             vec![0, 0, 0, 127, 127, 127, 255, 255, 255, 255, 255, 255]
         );
+        // Just below a step stays below it (254.745, 0.9945); NaN is black.
+        let img = Image::from_pixels(1, 1, vec![[0.999, 0.0039, f32::NAN]]);
+        assert_eq!(img.to_rgb8(), vec![254, 0, 0]);
     }
 
     #[test]
