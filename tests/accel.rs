@@ -27,12 +27,18 @@ fn brute_intersect(objects: &[Object], ray: &Ray, t_max: f64) -> Option<(u32, Hi
     best
 }
 
+/// Whether `o` blocks `ray` within (`t_min`, `t_max`), unless it belongs to
+/// the light `ignore`.
+fn blocks(o: &Object, ray: &Ray, t_min: f64, t_max: f64, ignore: Option<u32>) -> bool {
+    let skip = ignore.is_some() && o.light() == ignore;
+    !skip && o.shape.intersect(ray, t_min, t_max).is_some()
+}
+
 /// The reference any-hit query.
 fn brute_occluded(objects: &[Object], ray: &Ray, t_max: f64, ignore_light: Option<u32>) -> bool {
-    objects.iter().any(|o| {
-        let skip = ignore_light.is_some() && o.light() == ignore_light;
-        !skip && o.shape.intersect(ray, 0.0, t_max).is_some()
-    })
+    objects
+        .iter()
+        .any(|o| blocks(o, ray, 0.0, t_max, ignore_light))
 }
 
 fn object(shape: Shape, light: Option<u32>) -> Object {
@@ -82,11 +88,7 @@ fn frame(rng: &mut Pcg64) -> (DVec3, DVec3) {
 
 fn unit_vector(rng: &mut Pcg64) -> DVec3 {
     loop {
-        let v = DVec3::new(
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-        );
+        let v = point_in(rng, 1.0);
         let l = v.length_squared();
         if l > 1e-4 && l <= 1.0 {
             return v / l.sqrt();
@@ -235,10 +237,9 @@ fn check(objects: &[Object], rays: usize, half: f64, seed: u64) {
             let shadow = Ray::off_surface(offset_origin(s.point, side), dir);
             for t_max in [rng.random_range(0.0..2.0 * half), f64::INFINITY] {
                 for ignore in [None, l] {
-                    let want = objects.iter().any(|o| {
-                        let skip = ignore.is_some() && o.light() == ignore;
-                        !skip && o.shape.intersect(&shadow, shadow.t_min, t_max).is_some()
-                    });
+                    let want = objects
+                        .iter()
+                        .any(|o| blocks(o, &shadow, shadow.t_min, t_max, ignore));
                     let got = accel.occluded_hinted(&shadow, t_max, ignore, Some(i), &mut None);
                     assert_eq!(
                         got, want,
@@ -253,9 +254,10 @@ fn check(objects: &[Object], rays: usize, half: f64, seed: u64) {
                         // A blocked ray leaves its blocker in the hint.
                         let b = hint.filter(|_| got).map(|b| &objects[b as usize]);
                         if let Some(o) = b {
-                            let skip = ignore.is_some() && o.light() == ignore;
-                            let on = o.shape.intersect(&shadow, shadow.t_min, t_max).is_some();
-                            assert!(!skip && on, "ray {n}: the hint left is no blocker");
+                            assert!(
+                                blocks(o, &shadow, shadow.t_min, t_max, ignore),
+                                "ray {n}: the hint left is no blocker"
+                            );
                         }
                     }
                     shadows += 1;

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::json_field;
+use common::{json_field, json_vec3};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
@@ -217,15 +217,6 @@ fn piped_stderr_gets_the_summary_line_but_no_progress_bar() {
     assert!(out.exists());
 }
 
-fn vec3(s: &str) -> [f64; 3] {
-    let v: Vec<f64> = s
-        .trim_matches(['[', ']'])
-        .split(',')
-        .map(|x| x.parse().unwrap())
-        .collect();
-    [v[0], v[1], v[2]]
-}
-
 /// (t, point, normal, front, primitive) of one probe answer.
 type Expected = (f64, [f64; 3], [f64; 3], bool, &'static str);
 
@@ -277,8 +268,8 @@ primitive cube\n    O= 0 0 10\n    Dx= 1 0 0\n    Dy= 0 1 0\n    x= 1\n    y= 2\
         let got_t: f64 = json_field(line, "t").parse().unwrap();
         assert!((got_t - t).abs() <= 1e-9 * t, "{line}");
         let (gp, gn) = (
-            vec3(json_field(line, "point")),
-            vec3(json_field(line, "normal")),
+            json_vec3(json_field(line, "point")),
+            json_vec3(json_field(line, "normal")),
         );
         for k in 0..3 {
             assert!((gp[k] - p[k]).abs() <= 1e-9 * (1.0 + p[k].abs()), "{line}");

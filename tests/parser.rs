@@ -464,11 +464,29 @@ primitive square\n Dx= 1 0 0\n Dy= 0 1 0\nend
     assert_eq!(s.finish_count(), 1);
 }
 
+/// A sphere block with the given colour and other material keys.
+fn sphere_with(color: &str, keys: &str) -> String {
+    format!("primitive sphere\n R= 1\n color= {color}\n{keys}end\n")
+}
+
+/// The sphere blocks [`sphere_with`] makes of each (colour, keys) pair, one
+/// after the other.
+fn spheres(blocks: &[(&str, &str)]) -> String {
+    blocks
+        .iter()
+        .map(|&(color, keys)| sphere_with(color, keys))
+        .collect()
+}
+
 #[test]
 fn only_equal_materials_are_shared() {
-    let sphere =
-        |color: &str| format!("primitive sphere\n R= 1\n color= {color}\n diff= 0.5\nend\n");
-    let s = ok(&(sphere("1 0 0") + &sphere("1 0 0") + &sphere("0 1 0") + &sphere("1 0 0")));
+    let diff = " diff= 0.5\n";
+    let s = ok(&spheres(&[
+        ("1 0 0", diff),
+        ("1 0 0", diff),
+        ("0 1 0", diff),
+        ("1 0 0", diff),
+    ]));
     // A whole material is shared only with the one just before it ...
     let materials: Vec<_> = s.objects.iter().map(|o| o.material).collect();
     assert_eq!(materials, vec![0, 0, 1, 2]);
@@ -480,11 +498,6 @@ fn only_equal_materials_are_shared() {
     // ... its keys other than the colour with every other.
     assert_eq!(s.finish_count(), 1);
     assert!(s.materials().all(|m| m.diff == 0.5));
-}
-
-/// A sphere block with the given colour and other material keys.
-fn sphere_with(color: &str, keys: &str) -> String {
-    format!("primitive sphere\n R= 1\n color= {color}\n{keys}end\n")
 }
 
 #[test]
@@ -540,10 +553,12 @@ fn different_colours_with_one_finish_cost_one_finish() {
 
 #[test]
 fn textured_and_untextured_materials_never_share() {
-    let s = ok(&(sphere_with("1 1 1", " diff= 0.5\n texture= tiny.bmp\n")
-        + &sphere_with("1 1 1", " diff= 0.5\n")
-        + &sphere_with("0 1 1", " diff= 0.5\n texture= tiny.bmp\n")
-        + &sphere_with("0 1 1", " diff= 0.5\n")));
+    let s = ok(&spheres(&[
+        ("1 1 1", " diff= 0.5\n texture= tiny.bmp\n"),
+        ("1 1 1", " diff= 0.5\n"),
+        ("0 1 1", " diff= 0.5\n texture= tiny.bmp\n"),
+        ("0 1 1", " diff= 0.5\n"),
+    ]));
     assert_eq!(s.finish_count(), 2);
     assert_eq!(s.material_count(), 4);
     let textures: Vec<_> = s
@@ -558,10 +573,12 @@ fn textured_and_untextured_materials_never_share() {
 fn sharing_is_bit_exact_so_minus_zero_keeps_its_sign() {
     // -0 == 0 as numbers, but 1/-0 is -inf: nothing is shared that is not
     // the same bits, so every value is the one the file gave.
-    let s = ok(&(sphere_with("0 0 0", " diff= 0\n")
-        + &sphere_with("-0 0 0", " diff= 0\n")
-        + &sphere_with("-0 0 0", " diff= -0\n")
-        + &sphere_with("-0 0 0", " diff= 0\n")));
+    let s = ok(&spheres(&[
+        ("0 0 0", " diff= 0\n"),
+        ("-0 0 0", " diff= 0\n"),
+        ("-0 0 0", " diff= -0\n"),
+        ("-0 0 0", " diff= 0\n"),
+    ]));
     let materials: Vec<_> = s.objects.iter().map(|o| o.material).collect();
     assert_eq!(materials, vec![0, 1, 2, 3]);
     assert_eq!(s.finish_count(), 2);

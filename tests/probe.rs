@@ -11,7 +11,8 @@ mod common;
 
 use common::bezier::Model;
 use common::{
-    half_sizes, json_field, log_size, point_in, random_sign, rotation, scene_vec, solve_plane,
+    half_sizes, json_field, json_number, json_vec3, log_size, point_in, random_sign, rotation,
+    scene_vec, solve_plane,
 };
 use glam::DVec3;
 use rand::{Rng, SeedableRng};
@@ -35,21 +36,6 @@ struct Answer {
     uv: (f64, f64),
 }
 
-fn number(s: &str) -> f64 {
-    s.parse()
-        .unwrap_or_else(|_| panic!("`{s}` is not a JSON number"))
-}
-
-fn vector(s: &str) -> DVec3 {
-    let inner = s
-        .strip_prefix('[')
-        .and_then(|s| s.strip_suffix(']'))
-        .unwrap();
-    let v: Vec<f64> = inner.split(',').map(number).collect();
-    assert_eq!(v.len(), 3, "{s}");
-    DVec3::new(v[0], v[1], v[2])
-}
-
 fn parse_answer(line: &str) -> Option<Answer> {
     assert!(line.starts_with('{') && line.ends_with('}'), "{line}");
     match json_field(line, "hit") {
@@ -58,9 +44,9 @@ fn parse_answer(line: &str) -> Option<Answer> {
             None
         }
         "true" => Some(Answer {
-            t: number(json_field(line, "t")),
-            point: vector(json_field(line, "point")),
-            normal: vector(json_field(line, "normal")),
+            t: json_number(json_field(line, "t")),
+            point: json_vec3(json_field(line, "point")),
+            normal: json_vec3(json_field(line, "normal")),
             front: match json_field(line, "front") {
                 "true" => true,
                 "false" => false,
@@ -72,7 +58,10 @@ fn parse_answer(line: &str) -> Option<Answer> {
             },
             uv: {
                 let inner = json_field(line, "uv");
-                let v: Vec<f64> = inner[1..inner.len() - 1].split(',').map(number).collect();
+                let v: Vec<f64> = inner[1..inner.len() - 1]
+                    .split(',')
+                    .map(json_number)
+                    .collect();
                 assert_eq!(v.len(), 2, "{line}");
                 (v[0], v[1])
             },
@@ -223,10 +212,10 @@ fn assert_facing_normal(a: &Answer, n: DVec3, d: DVec3, context: &dyn Fn() -> St
 }
 
 /// The rays `case(k)` makes for k in 0..`count`, and their references.
-fn cases(
+fn cases<E>(
     count: usize,
-    case: impl FnMut(usize) -> ((DVec3, DVec3), Expect),
-) -> (Vec<(DVec3, DVec3)>, Vec<Expect>) {
+    case: impl FnMut(usize) -> ((DVec3, DVec3), E),
+) -> (Vec<(DVec3, DVec3)>, Vec<E>) {
     (0..count).map(case).unzip()
 }
 
@@ -234,11 +223,7 @@ fn cases(
 
 fn unit(rng: &mut Pcg64) -> DVec3 {
     loop {
-        let v = DVec3::new(
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-        );
+        let v = point_in(rng, 1.0);
         let l = v.length();
         if l > 0.1 && l <= 1.0 {
             return v / l;
@@ -875,13 +860,12 @@ fn probe_bezier_surfaces_match_scan_reference() {
                     let j = rng.random_range(0..18);
                     let eps = if j == 17 { 0.0 } else { 10f64.powi(-j) };
                     let perp = perpendicular(&mut rng, m.a);
-                    let d =
-                        (perp + m.a * if rng.random_bool(0.5) { eps } else { -eps }).normalize();
+                    let d = (perp + m.a * (eps * random_sign(&mut rng))).normalize();
                     (target - d * m.scale * rng.random_range(0.2..4.0), d)
                 }
                 // Along the axis.
                 _ => {
-                    let d = if rng.random_bool(0.5) { m.a } else { -m.a };
+                    let d = m.a * random_sign(&mut rng);
                     (target - d * m.scale * rng.random_range(0.2..4.0), d)
                 }
             };
@@ -981,9 +965,7 @@ fn probe_box_of_squares_from_inside_through_edges_and_corners() {
     ] {
         let scene = common::box_of_squares_text(c, rot, h);
         let scale = c.abs().max_element() + h.max_element();
-        let mut rays = Vec::new();
-        let mut dists = Vec::new();
-        for m in 0..400 {
+        let (rays, dists) = cases(400, |m| {
             let i = rng.random_range(0..3usize);
             let j = (i + 1 + rng.random_range(0..2usize)) % 3;
             let si = random_sign(&mut rng);
@@ -999,9 +981,11 @@ fn probe_box_of_squares_from_inside_through_edges_and_corners() {
                     * (si * h.max_element() * 10f64.powf(rng.random_range(-16.0..-10.0)));
             }
             let inside = c + rot * (point_in(&mut rng, 0.99) * h);
-            rays.push((inside, (target - inside).normalize()));
-            dists.push((target - inside).length());
-        }
+            (
+                (inside, (target - inside).normalize()),
+                (target - inside).length(),
+            )
+        });
         let answers = probe(&scene, &rays, false);
         for ((&(o, d), dist), a) in rays.iter().zip(dists).zip(answers) {
             let a = a.unwrap_or_else(|| {

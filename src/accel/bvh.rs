@@ -240,51 +240,42 @@ impl Bvh {
     /// Visits, nearest box first, the leaves whose boxes the ray enters at a
     /// distance in [0, `t_best`] (up to the slack); `leaf` gets the leaf's
     /// primitives and may lower `t_best`, and stops the walk by returning true.
+    ///
+    /// For a ray leaving the surface of primitive `from`, the walk starts at
+    /// its leaf and goes up, visiting at each level the subtree beside the
+    /// path. Those subtrees and the leaf make up the whole tree, so the same
+    /// leaves are visited, but the primitives near the origin come first and
+    /// the descent from the root is skipped: a shadow ray mostly meets its
+    /// blocker a level or two up. Otherwise (`None`, or a primitive not in
+    /// the tree) the walk is the root's subtree alone.
     #[inline]
     pub(crate) fn traverse(
         &self,
+        from: Option<u32>,
         ray: &Ray,
         t_best: &mut f64,
-        leaf: impl FnMut(&[u32], &mut f64) -> bool,
+        mut leaf: impl FnMut(&[u32], &mut f64) -> bool,
     ) {
         let Some(Pair([root, _])) = self.pairs.first() else {
             return;
         };
         let rb = RayBox::new(ray);
+        // A ray that misses the whole tree needs no stack.
         if rb.entry(&root.bounds, *t_best) == MISS {
             return;
         }
-        with_stack(|stack| {
-            self.walk(&rb, root, t_best, stack, leaf);
-        });
-    }
-
-    /// [`Bvh::traverse`] for a ray leaving the surface of primitive `from`:
-    /// the walk starts at its leaf and goes up, visiting at each level the
-    /// subtree beside the path. Those subtrees and the leaf make up the whole
-    /// tree, so the same leaves are visited, but the primitives near the
-    /// origin come first and the descent from the root is skipped: a shadow
-    /// ray mostly meets its blocker a level or two up.
-    #[inline]
-    pub(crate) fn traverse_from(
-        &self,
-        from: u32,
-        ray: &Ray,
-        t_best: &mut f64,
-        mut leaf: impl FnMut(&[u32], &mut f64) -> bool,
-    ) {
-        let start = self.leaf_of.get(from as usize).copied().unwrap_or(NO_LEAF);
-        if start == NO_LEAF {
-            return self.traverse(ray, t_best, leaf);
-        }
-        let rb = RayBox::new(ray);
+        let start = from
+            .and_then(|p| self.leaf_of.get(p as usize).copied())
+            .filter(|&k| k != NO_LEAF)
+            .unwrap_or(0);
         let up = |stack: &mut Stack| {
-            // Subtree roots in order: the leaf, then each sibling up the path.
+            // Subtree roots in order: the start node, then each sibling up the path.
             let mut k = start;
-            let mut root = start;
+            let mut sub = start;
             loop {
-                let node = self.node(root);
-                if rb.entry(&node.bounds, *t_best) != MISS
+                let node = self.node(sub);
+                // The root's box was tested above.
+                if (sub == 0 || rb.entry(&node.bounds, *t_best) != MISS)
                     && self.walk(&rb, node, t_best, stack, &mut leaf)
                 {
                     return;
@@ -294,7 +285,7 @@ impl Bvh {
                 }
                 // Node k is not the root, so it has a sibling (ids 2p, 2p + 1
                 // of pair p ≥ 1) and a parent.
-                root = k ^ 1;
+                sub = k ^ 1;
                 k = self.parent[k as usize >> 1];
             }
         };
@@ -417,6 +408,18 @@ impl RayBox {
             inv_dir: inv,
             near: [side(inv[0]), side(inv[1]), side(inv[2])],
         }
+    }
+
+    /// The ray's origin.
+    #[inline]
+    pub(crate) fn origin(&self) -> [f64; 3] {
+        self.origin
+    }
+
+    /// The inverse of the ray's direction, per axis.
+    #[inline]
+    pub(crate) fn inv_dir(&self) -> [f64; 3] {
+        self.inv_dir
     }
 
     /// The distance at which the ray enters the box, clipped to [0, t_best]

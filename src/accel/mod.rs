@@ -63,7 +63,7 @@ impl<'a> Accel<'a> {
         for &i in &self.unbounded {
             self.test(i, ray, &mut best, &mut t_best);
         }
-        self.bvh.traverse(ray, &mut t_best, |prims, t_best| {
+        self.bvh.traverse(None, ray, &mut t_best, |prims, t_best| {
             for &i in prims {
                 self.test(i, ray, &mut best, t_best);
             }
@@ -122,10 +122,7 @@ impl<'a> Accel<'a> {
             blocker = prims.iter().copied().find(|&i| blocks(i));
             blocker.is_some()
         };
-        match from {
-            Some(object) => self.bvh.traverse_from(object, ray, &mut t_best, leaf),
-            None => self.bvh.traverse(ray, &mut t_best, leaf),
-        }
+        self.bvh.traverse(from, ray, &mut t_best, leaf);
         if blocker.is_some() {
             *hint = blocker;
         }

@@ -47,8 +47,12 @@ impl Accel<'_> {
         let (Some(Pair([root, _])), Some(last)) = (bvh.pairs.first(), n.checked_sub(1)) else {
             return;
         };
-        let rb: [RayBox; PACKET_MAX] = std::array::from_fn(|j| RayBox::new(&rays[j.min(last)]));
-        let frustum = Frustum::of(&rays[..n]);
+        // Slots past n repeat the last ray; they are never tested.
+        let mut rb = [RayBox::new(&rays[last]); PACKET_MAX];
+        for (b, ray) in rb.iter_mut().zip(&rays[..last]) {
+            *b = RayBox::new(ray);
+        }
+        let frustum = Frustum::of(&rb[..n]);
         // Children are visited in the order their centres lie along the
         // packet's mean direction: near first, for most of its rays.
         let dir: DVec3 = rays[..n].iter().map(|r| r.dir).sum();
@@ -88,7 +92,9 @@ impl Accel<'_> {
                             leaf(j, prims, &mut t[j]);
                         }
                     }
-                    t_all = farthest(t);
+                    if frustum.is_some() {
+                        t_all = farthest(t);
+                    }
                     break 'visit;
                 }
                 let pair = &bvh.pairs[node.start as usize >> 1].0;
@@ -122,29 +128,32 @@ struct Frustum {
 }
 
 impl Frustum {
-    /// The packet's bounds, or `None` when its rays do not share an origin
-    /// or a direction component is zero, subnormal or changes sign.
-    fn of(rays: &[Ray]) -> Option<Frustum> {
-        let first = rays.first()?;
-        let origin = first.origin;
+    /// The bounds of the rays prepared in `rb` (their own inverse
+    /// directions, so the bounds hold each ray's arithmetic), or `None` when
+    /// they do not share an origin or a direction component is zero,
+    /// subnormal or NaN (its inverse is not finite) or changes sign.
+    fn of(rb: &[RayBox]) -> Option<Frustum> {
+        let first = rb.first()?;
+        let origin = first.origin();
         let mut f = Frustum {
-            origin: origin.to_array(),
+            origin,
             near: [0; 3],
             inv_lo: [f64::INFINITY; 3],
             inv_hi: [f64::NEG_INFINITY; 3],
         };
-        for a in 0..3 {
-            let negative = first.dir[a] < 0.0;
-            f.near[a] = if negative { 3 } else { 0 };
-            for r in rays {
-                let d = r.dir[a];
-                if r.origin != origin || d == 0.0 || (d < 0.0) != negative || d.is_nan() {
-                    return None;
-                }
-                let inv = 1.0 / d;
-                if !inv.is_finite() {
-                    // A subnormal component: 0·∞ would leave a ray's slab
-                    // open where the bounds here would close it.
+        let negative = first.inv_dir().map(|inv| inv < 0.0);
+        for (a, &neg) in negative.iter().enumerate() {
+            f.near[a] = if neg { 3 } else { 0 };
+        }
+        for r in rb {
+            if r.origin() != origin {
+                return None;
+            }
+            for (a, inv) in r.inv_dir().into_iter().enumerate() {
+                // A zero or subnormal component has an infinite inverse:
+                // 0·∞ would leave a ray's slab open where the bounds here
+                // would close it.
+                if !inv.is_finite() || (inv < 0.0) != negative[a] {
                     return None;
                 }
                 f.inv_lo[a] = f.inv_lo[a].min(inv);
@@ -211,11 +220,11 @@ mod tests {
                     Ray::new(origin, d)
                 })
                 .collect();
-            let Some(f) = Frustum::of(&rays) else {
+            let rb: Vec<RayBox> = rays.iter().map(RayBox::new).collect();
+            let Some(f) = Frustum::of(&rb) else {
                 assert_eq!(scale, 1e-310, "only subnormal components are refused");
                 continue;
             };
-            let rb: Vec<RayBox> = rays.iter().map(RayBox::new).collect();
             for _ in 0..20 {
                 // Boxes around points along one of the rays, and anywhere.
                 let r = &rays[rng.random_range(0..rays.len())];
@@ -264,6 +273,7 @@ mod tests {
         ];
         let b = [-1.0, 1.0, -1.0, 0.0, 2.0, 1.0];
         assert_ne!(RayBox::new(&rays[0]).entry(&b, f64::INFINITY), MISS);
-        assert!(Frustum::of(&rays).is_none_or(|f| !f.misses(&b, f64::INFINITY)));
+        let rb = rays.map(|r| RayBox::new(&r));
+        assert!(Frustum::of(&rb).is_none_or(|f| !f.misses(&b, f64::INFINITY)));
     }
 }

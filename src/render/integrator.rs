@@ -49,8 +49,6 @@ pub struct PathState {
     pub rng: Pcg32,
     /// Rays traced so far.
     pub rays: RayCounts,
-    /// Blockers to try first: a packet passes them on from ray to ray.
-    pub hints: ShadowHints,
 }
 
 /// Evaluates the shading model for rays in a scene.
@@ -73,46 +71,52 @@ impl<'a> Tracer<'a> {
     }
 
     /// The colour seen along a camera ray, adding to `hash` what the
-    /// framework's anti-aliasing compares between neighbours.
-    pub fn trace_camera(&self, ray: &Ray, st: &mut PathState, hash: &mut u64) -> DVec3 {
+    /// framework's anti-aliasing compares between neighbours. `hints` are
+    /// the worker's: its neighbouring rays mostly meet the same blockers.
+    pub fn trace_camera(
+        &self,
+        ray: &Ray,
+        st: &mut PathState,
+        hash: &mut u64,
+        hints: &mut ShadowHints,
+    ) -> DVec3 {
         st.rays.camera += 1;
-        self.trace(ray, 1, st, Some(hash))
+        self.trace(ray, 1, st, Some(hash), hints)
     }
 
-    /// [`Tracer::trace_camera`] for a packet of camera rays (a tile's), whose
-    /// nearest hits are found together: colours into `out`, each exactly
-    /// what [`Tracer::trace_camera`] gives.
+    /// [`Tracer::trace_camera`] for a packet of at most [`PACKET_MAX`]
+    /// camera rays (a tile's), whose nearest hits are found together:
+    /// colours into `out`, each exactly what [`Tracer::trace_camera`] gives.
     pub fn trace_camera_packet(
         &self,
         rays: &[Ray],
         states: &mut [PathState],
         hashes: &mut [u64],
         out: &mut [DVec3],
+        hints: &mut ShadowHints,
     ) {
         let mut found = [None; PACKET_MAX];
-        for (k0, rays) in (0..).step_by(PACKET_MAX).zip(rays.chunks(PACKET_MAX)) {
-            let found = &mut found[..rays.len()];
-            self.accel.intersect_packet(rays, found);
-            for (k, (ray, &hit)) in (k0..).zip(rays.iter().zip(found.iter())) {
-                if k > 0 {
-                    states[k].hints = states[k - 1].hints;
-                }
-                states[k].rays.camera += 1;
-                out[k] = self.shade(ray, hit, 1, &mut states[k], Some(&mut hashes[k]));
-            }
+        let found = &mut found[..rays.len()];
+        self.accel.intersect_packet(rays, found);
+        for (k, (ray, &hit)) in rays.iter().zip(found.iter()).enumerate() {
+            states[k].rays.camera += 1;
+            let hash = Some(&mut hashes[k]);
+            out[k] = self.shade(ray, hit, 1, &mut states[k], hash, hints);
         }
     }
 
     /// The framework's `RayTracing`: the colour along `ray` at `depth`,
     /// clamped to at most 1 per channel.
-    fn trace(&self, ray: &Ray, depth: u32, st: &mut PathState, hash: Option<&mut u64>) -> DVec3 {
-        self.shade(
-            ray,
-            self.accel.intersect(ray, f64::INFINITY),
-            depth,
-            st,
-            hash,
-        )
+    fn trace(
+        &self,
+        ray: &Ray,
+        depth: u32,
+        st: &mut PathState,
+        hash: Option<&mut u64>,
+        hints: &mut ShadowHints,
+    ) -> DVec3 {
+        let found = self.accel.intersect(ray, f64::INFINITY);
+        self.shade(ray, found, depth, st, hash, hints)
     }
 
     /// [`Tracer::trace`] for a ray whose nearest hit is `found`.
@@ -123,6 +127,7 @@ impl<'a> Tracer<'a> {
         depth: u32,
         st: &mut PathState,
         mut hash: Option<&mut u64>,
+        hints: &mut ShadowHints,
     ) -> DVec3 {
         let scene = self.scene;
         let Some((index, hit)) = found else {
@@ -156,17 +161,17 @@ impl<'a> Tracer<'a> {
                 Some(t) => m.color * scene.textures[t as usize].sample(surface.uv),
                 None => m.color,
             };
+            let from = ShadowFrom {
+                point,
+                side,
+                object: Some(index),
+            };
             for (li, light) in scene.lights.iter().enumerate() {
                 let l = (light.center() - point).normalize_or_zero();
                 let d = l.dot(n);
                 if d <= 0.0 {
                     continue;
                 }
-                let from = ShadowFrom {
-                    point,
-                    side,
-                    object: Some(index),
-                };
                 let (s, rays) = shade_factor(
                     self.accel,
                     light,
@@ -174,7 +179,7 @@ impl<'a> Tracer<'a> {
                     &from,
                     self.shadow_samples,
                     &mut st.rng,
-                    &mut st.hints,
+                    hints,
                 );
                 st.rays.shadow += rays;
                 if s <= 0.0 {
@@ -197,12 +202,8 @@ impl<'a> Tracer<'a> {
             let weight = m.color * m.refl;
             if !glossy {
                 st.rays.reflected += 1;
-                color += self.trace(
-                    &Ray::off_surface(origin, mirror),
-                    depth + 1,
-                    st,
-                    hash.as_deref_mut(),
-                ) * weight;
+                let ray = Ray::off_surface(origin, mirror);
+                color += self.trace(&ray, depth + 1, st, hash.as_deref_mut(), hints) * weight;
             } else {
                 let samples = if depth <= GLOSSY_AVERAGE_DEPTH {
                     self.glossy_samples
@@ -214,7 +215,8 @@ impl<'a> Tracer<'a> {
                 for _ in 0..samples {
                     let dir = glossy_direction(mirror, side, a1, a2, m.drefl, &mut st.rng);
                     st.rays.reflected += 1;
-                    sum += self.trace(&Ray::off_surface(origin, dir), reflected_depth, st, None);
+                    let ray = Ray::off_surface(origin, dir);
+                    sum += self.trace(&ray, reflected_depth, st, None, hints);
                 }
                 color += sum / samples as f64 * weight;
             }
@@ -227,7 +229,7 @@ impl<'a> Tracer<'a> {
                 None => (reflect(ray.dir, n), offset_origin(point, side)),
             };
             st.rays.refracted += 1;
-            let c = self.trace(&Ray::off_surface(origin, dir), depth + 1, st, hash);
+            let c = self.trace(&Ray::off_surface(origin, dir), depth + 1, st, hash, hints);
             let weight = if front {
                 DVec3::splat(m.refr)
             } else {

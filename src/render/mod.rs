@@ -107,7 +107,20 @@ struct Frame<'a> {
     seed: u64,
 }
 
-impl Frame<'_> {
+impl<'a> Frame<'a> {
+    /// The frame of `scene`'s camera, tracing through `accel`, with the
+    /// random streams of `seed`.
+    fn new(scene: &'a Scene, accel: &'a Accel<'a>, seed: u64) -> Self {
+        let (width, height) = (scene.camera.width, scene.camera.height);
+        Frame {
+            tracer: Tracer::new(scene, accel),
+            camera: CameraRays::new(&scene.camera, width, height),
+            width,
+            height,
+            seed,
+        }
+    }
+
     /// The random stream of one camera sample: a hash of (pixel, sample, seed).
     fn state(&self, x: u32, y: u32, sample: u32) -> PathState {
         let pixel = y as u64 * self.width as u64 + x as u64;
@@ -115,7 +128,6 @@ impl Frame<'_> {
         PathState {
             rng: Pcg32::seed_from_u64(key),
             rays: RayCounts::default(),
-            hints: ShadowHints::default(),
         }
     }
 
@@ -128,36 +140,23 @@ impl Frame<'_> {
         self.camera.ray(i, j)
     }
 
-    /// The colour of one camera ray at sub-pixel offset (fx, fy) of pixel (x, y).
-    fn sample(
-        &self,
-        x: u32,
-        y: u32,
-        fx: f64,
-        fy: f64,
-        st: &mut PathState,
-        hash: &mut u64,
-    ) -> DVec3 {
-        self.tracer.trace_camera(&self.ray(x, y, fx, fy), st, hash)
-    }
-
-    /// Traces `n` (at most [`PACKET_MAX`]) camera rays as one packet: ray k
-    /// is sample `sample` at sub-pixel (fx, fy) of pixel (x, y), as
-    /// `sample_of(k)` = (x, y, fx, fy, sample) gives. Calls `each(k, colour,
-    /// hash, rays)` in order.
+    /// Traces `n` (at most [`PACKET_MAX`]: a tile, or a pixel's grid) camera
+    /// rays as one packet: ray k is sample `sample` at sub-pixel (fx, fy) of
+    /// pixel (x, y), as `sample_of(k)` = (x, y, fx, fy, sample) gives. Calls
+    /// `each(k, colour, hash, rays)` in order.
     fn packet(
         &self,
         n: usize,
         sample_of: impl Fn(usize) -> (u32, u32, f64, f64, u32),
         mut each: impl FnMut(usize, DVec3, u64, &RayCounts),
+        hints: &mut ShadowHints,
     ) {
-        let n = n.min(PACKET_MAX);
+        debug_assert!(n <= PACKET_MAX);
         // Slots past n hold placeholders; they are not traced.
         let mut camera = [Ray::new(DVec3::ZERO, DVec3::Z); PACKET_MAX];
         let mut states: [PathState; PACKET_MAX] = std::array::from_fn(|_| PathState {
             rng: Pcg32::new(0, 0),
             rays: RayCounts::default(),
-            hints: ShadowHints::default(),
         });
         for (k, (ray, st)) in camera.iter_mut().zip(&mut states).take(n).enumerate() {
             let (x, y, fx, fy, sample) = sample_of(k);
@@ -170,6 +169,7 @@ impl Frame<'_> {
             &mut states[..n],
             &mut hashes[..n],
             &mut colors[..n],
+            hints,
         );
         for k in 0..n {
             each(k, colors[k], hashes[k], &states[k].rays);
@@ -178,7 +178,7 @@ impl Frame<'_> {
 
     /// Pass 2 for pixel (x, y): the mean of the framework's 7×7 grid of
     /// camera rays, traced as one packet.
-    fn refine(&self, x: u32, y: u32, rays: &mut RayCounts) -> DVec3 {
+    fn refine(&self, x: u32, y: u32, rays: &mut RayCounts, hints: &mut ShadowHints) -> DVec3 {
         let g = AA_GRID as usize;
         let at = |k: usize| ((k % g) as f64 + 0.5) / g as f64;
         // Summed in grid order, as one ray after another would be.
@@ -190,22 +190,26 @@ impl Frame<'_> {
                 sum += c;
                 rays.add(r);
             },
+            hints,
         );
         sum / (g * g) as f64
     }
 
     /// Pass 1 over the tile of columns `xs` and rows `ys` when a pixel takes
     /// one ray through its centre, traced as one packet. Calls
-    /// `put(x, y, colour, hash)` for each pixel.
+    /// `put(x, y, colour, hash)` for each pixel (the hash folded to 32 bits).
     fn centre_tile(
         &self,
         xs: std::ops::Range<u32>,
         ys: std::ops::Range<u32>,
-        with_hash: bool,
         rays: &mut RayCounts,
+        hints: &mut ShadowHints,
         mut put: impl FnMut(u32, u32, DVec3, u32),
     ) {
-        let w = xs.len().max(1);
+        if xs.is_empty() {
+            return;
+        }
+        let w = xs.len();
         let pixel = |k: usize| (xs.start + (k % w) as u32, ys.start + (k / w) as u32);
         self.packet(
             w * ys.len(),
@@ -216,8 +220,9 @@ impl Frame<'_> {
             |k, c, h, r| {
                 let (x, y) = pixel(k);
                 rays.add(r);
-                put(x, y, c, if with_hash { (h ^ (h >> 32)) as u32 } else { 0 });
+                put(x, y, c, (h ^ (h >> 32)) as u32);
             },
+            hints,
         );
     }
 }
@@ -231,13 +236,7 @@ fn render_inner(
     let build_start = Instant::now();
     let accel = Accel::build(&scene.objects);
     let build = build_start.elapsed();
-    let frame = Frame {
-        tracer: Tracer::new(scene, &accel),
-        camera: CameraRays::new(&scene.camera, w, h),
-        width: w,
-        height: h,
-        seed: options.seed,
-    };
+    let frame = Frame::new(scene, &accel, options.seed);
     let spp = options.spp.map(|n| n.max(1));
     let per_pixel = spp.unwrap_or(1) as u64;
     let total = AtomicU64::new(w as u64 * h as u64 * per_pixel);
@@ -263,14 +262,16 @@ fn render_inner(
             let y0 = band * BAND;
             let rows = band_pixels.len() / wu;
             let mut rays = RayCounts::default();
+            // The band's worker keeps its blockers from tile to tile.
+            let mut hints = ShadowHints::default();
             for x0 in (0..wu).step_by(BAND) {
                 let x1 = (x0 + BAND).min(wu);
                 match spp {
                     Some(n) if n > 1 => {
                         for dy in 0..rows {
                             for x in x0..x1 {
-                                let c =
-                                    stratified(&frame, x as u32, (y0 + dy) as u32, n, &mut rays);
+                                let (px, py) = (x as u32, (y0 + dy) as u32);
+                                let c = stratified(&frame, px, py, n, &mut rays, &mut hints);
                                 band_pixels[dy * wu + x] = to_f32(c);
                             }
                         }
@@ -281,13 +282,8 @@ fn render_inner(
                             let i = (y as usize - y0) * wu + x as usize;
                             (band_pixels[i], band_hashes[i]) = (to_f32(c), hash);
                         };
-                        frame.centre_tile(
-                            x0 as u32..x1 as u32,
-                            ys,
-                            spp.is_none(),
-                            &mut rays,
-                            &mut put,
-                        );
+                        let xs = x0 as u32..x1 as u32;
+                        frame.centre_tile(xs, ys, &mut rays, &mut hints, &mut put);
                     }
                 }
             }
@@ -320,11 +316,12 @@ fn render_inner(
         let refined_colors: Vec<(DVec3, RayCounts)> = edge
             .par_chunks(16)
             .flat_map_iter(|chunk| {
+                let mut hints = ShadowHints::default();
                 let out: Vec<(DVec3, RayCounts)> = chunk
                     .iter()
                     .map(|&p| {
                         let mut rays = RayCounts::default();
-                        (frame.refine(p % w, p / w, &mut rays), rays)
+                        (frame.refine(p % w, p / w, &mut rays, &mut hints), rays)
                     })
                     .collect();
                 report(out.len() as u64 * n);
@@ -346,7 +343,14 @@ fn to_f32(c: DVec3) -> [f32; 3] {
 
 /// The mean of `n` (2 or more) stratified samples in a pixel: a jittered
 /// grid of n strata. (One sample is the pixel's centre, traced in packets.)
-fn stratified(frame: &Frame, x: u32, y: u32, n: u32, rays: &mut RayCounts) -> DVec3 {
+fn stratified(
+    frame: &Frame,
+    x: u32,
+    y: u32,
+    n: u32,
+    rays: &mut RayCounts,
+    hints: &mut ShadowHints,
+) -> DVec3 {
     use rand::Rng;
     let (rows, cols) = crate::shading::strata(n);
     let mut sum = DVec3::ZERO;
@@ -355,7 +359,9 @@ fn stratified(frame: &Frame, x: u32, y: u32, n: u32, rays: &mut RayCounts) -> DV
             let mut st = frame.state(x, y, r * cols + c);
             let fx = (c as f64 + st.rng.random::<f64>()) / cols as f64;
             let fy = (r as f64 + st.rng.random::<f64>()) / rows as f64;
-            sum += frame.sample(x, y, fx, fy, &mut st, &mut 0);
+            sum += frame
+                .tracer
+                .trace_camera(&frame.ray(x, y, fx, fy), &mut st, &mut 0, hints);
             rays.add(&st.rays);
         }
     }
@@ -400,14 +406,8 @@ mod tests {
     fn packets_equal_single_rays() -> Result<(), crate::scene::SceneError> {
         let scene = scene()?;
         let accel = Accel::build(&scene.objects);
-        let (w, h) = (scene.camera.width, scene.camera.height);
-        let frame = Frame {
-            tracer: Tracer::new(&scene, &accel),
-            camera: CameraRays::new(&scene.camera, w, h),
-            width: w,
-            height: h,
-            seed: 7,
-        };
+        let frame = Frame::new(&scene, &accel, 7);
+        let mut hints = ShadowHints::default();
         let mut compared = 0;
         let mut distinct = std::collections::HashSet::new();
         // Tiles of every shape: full, cut at the right and bottom edges.
@@ -418,10 +418,16 @@ mod tests {
             (0..61, 20..21),
         ] {
             let mut rays = RayCounts::default();
-            frame.centre_tile(xs, ys, true, &mut rays, |x, y, c, hash| {
+            frame.centre_tile(xs, ys, &mut rays, &mut hints, |x, y, c, hash| {
                 let mut st = frame.state(x, y, 0);
                 let mut want_hash = 0u64;
-                let want = frame.sample(x, y, 0.5, 0.5, &mut st, &mut want_hash);
+                let mut alone = ShadowHints::default();
+                let want = frame.tracer.trace_camera(
+                    &frame.ray(x, y, 0.5, 0.5),
+                    &mut st,
+                    &mut want_hash,
+                    &mut alone,
+                );
                 assert_eq!(c, want, "pixel {x} {y}");
                 assert_eq!(
                     hash,
@@ -437,7 +443,7 @@ mod tests {
         // Pass 2: a pixel's 7×7 grid as one packet, against ray after ray.
         for (x, y) in [(0, 0), (30, 18), (60, 36), (12, 25)] {
             let mut rays = RayCounts::default();
-            let got = frame.refine(x, y, &mut rays);
+            let got = frame.refine(x, y, &mut rays, &mut hints);
             let mut want = DVec3::ZERO;
             let mut want_rays = RayCounts::default();
             for a in 0..AA_GRID {
@@ -445,7 +451,12 @@ mod tests {
                     let mut st = frame.state(x, y, 1 + a * AA_GRID + b);
                     let fx = (b as f64 + 0.5) / AA_GRID as f64;
                     let fy = (a as f64 + 0.5) / AA_GRID as f64;
-                    want += frame.sample(x, y, fx, fy, &mut st, &mut 0);
+                    want += frame.tracer.trace_camera(
+                        &frame.ray(x, y, fx, fy),
+                        &mut st,
+                        &mut 0,
+                        &mut hints,
+                    );
                     want_rays.add(&st.rays);
                 }
             }

@@ -173,55 +173,27 @@ impl Default for Material {
     }
 }
 
-/// A material's keys other than its colour, stored once for all the
-/// materials that share them.
-#[derive(Clone, Copy, Debug)]
-struct Finish {
-    diff: f64,
-    spec: f64,
-    refl: f64,
-    drefl: f64,
-    refr: f64,
-    rindex: f64,
-    absor: DVec3,
-    texture: Option<u32>,
+/// The exact bit patterns of a material's keys other than its colour (its
+/// "finish"): what "equal" means for sharing (-0.0 is not 0.0, and a NaN
+/// equals the same NaN), so a shared value is always the very value the
+/// file gave.
+fn finish_bits(m: &Material) -> [u64; 10] {
+    [
+        m.diff.to_bits(),
+        m.spec.to_bits(),
+        m.refl.to_bits(),
+        m.drefl.to_bits(),
+        m.refr.to_bits(),
+        m.rindex.to_bits(),
+        m.absor.x.to_bits(),
+        m.absor.y.to_bits(),
+        m.absor.z.to_bits(),
+        // Never a u32: untextured differs from every texture index.
+        m.texture.map_or(u64::MAX, u64::from),
+    ]
 }
 
-impl Finish {
-    fn of(m: &Material) -> Finish {
-        Finish {
-            diff: m.diff,
-            spec: m.spec,
-            refl: m.refl,
-            drefl: m.drefl,
-            refr: m.refr,
-            rindex: m.rindex,
-            absor: m.absor,
-            texture: m.texture,
-        }
-    }
-
-    /// The exact bit patterns: what "equal" means for sharing (-0.0 is not
-    /// 0.0, and a NaN equals the same NaN), so a shared value is always the
-    /// very value the file gave.
-    fn bits(&self) -> [u64; 10] {
-        [
-            self.diff.to_bits(),
-            self.spec.to_bits(),
-            self.refl.to_bits(),
-            self.drefl.to_bits(),
-            self.refr.to_bits(),
-            self.rindex.to_bits(),
-            self.absor.x.to_bits(),
-            self.absor.y.to_bits(),
-            self.absor.z.to_bits(),
-            // Never a u32: untextured differs from every texture index.
-            self.texture.map_or(u64::MAX, u64::from),
-        ]
-    }
-}
-
-/// A stored material: its colour and the index of its [`Finish`] (32 bytes).
+/// A stored material: its colour and the index of its finish (32 bytes).
 #[derive(Clone, Copy, Debug)]
 struct MaterialEntry {
     color: DVec3,
@@ -238,10 +210,11 @@ fn color_bits(c: DVec3) -> [u64; 3] {
 struct MaterialTable {
     /// Indexed by [`Object::material`].
     entries: Vec<MaterialEntry>,
-    /// Distinct finishes (bit for bit), in order of first use.
-    finishes: Vec<Finish>,
+    /// Distinct finishes (bit for bit), in order of first use: materials
+    /// whose colour is unused (black).
+    finishes: Vec<Material>,
     /// Finish index by a hash of its bits. Keyed by the hash alone to cost
-    /// 16 bytes a finish, not 88: the bits are checked on a hit, and a
+    /// 16 bytes a finish, not 80 of bits: the bits are checked on a hit, and a
     /// different finish with the same hash (never seen in practice) is
     /// stored unshared.
     by_hash: HashMap<u64, u32>,
@@ -251,27 +224,18 @@ impl MaterialTable {
     #[inline]
     fn get(&self, index: u32) -> Material {
         let e = self.entries[index as usize];
-        let f = self.finishes[e.finish as usize];
         Material {
             color: e.color,
-            diff: f.diff,
-            spec: f.spec,
-            refl: f.refl,
-            drefl: f.drefl,
-            refr: f.refr,
-            rindex: f.rindex,
-            absor: f.absor,
-            texture: f.texture,
+            ..self.finishes[e.finish as usize]
         }
     }
 
     fn add(&mut self, material: &Material) -> u32 {
-        let finish = Finish::of(material);
-        let bits = finish.bits();
+        let bits = finish_bits(material);
         let last = self
             .entries
             .last()
-            .map(|e| (e, self.finishes[e.finish as usize].bits()));
+            .map(|e| (e, finish_bits(&self.finishes[e.finish as usize])));
         let finish = match last {
             // Generated files repeat the same material block after block.
             Some((e, last_bits)) if last_bits == bits => {
@@ -281,7 +245,13 @@ impl MaterialTable {
                 // Only the colour is new: no hashing needed.
                 e.finish
             }
-            _ => self.intern(finish, bits, hash_bits(&bits)),
+            _ => {
+                let finish = Material {
+                    color: DVec3::ZERO,
+                    ..*material
+                };
+                self.intern(finish, bits, hash_bits(&bits))
+            }
         };
         self.entries.push(MaterialEntry {
             color: material.color,
@@ -292,9 +262,9 @@ impl MaterialTable {
 
     /// The index of a finish equal to `finish` bit for bit, added if new;
     /// `hash` is [`hash_bits`] of `bits` (a parameter so a test can collide).
-    fn intern(&mut self, finish: Finish, bits: [u64; 10], hash: u64) -> u32 {
+    fn intern(&mut self, finish: Material, bits: [u64; 10], hash: u64) -> u32 {
         if let Some(&i) = self.by_hash.get(&hash)
-            && self.finishes[i as usize].bits() == bits
+            && finish_bits(&self.finishes[i as usize]) == bits
         {
             return i;
         }
@@ -569,7 +539,7 @@ mod tests {
         assert_eq!(scene.finish_count(), 4);
         for (i, m) in indices.iter().zip(&all) {
             let got = scene.material(*i);
-            assert_eq!(Finish::of(&got).bits(), Finish::of(m).bits());
+            assert_eq!(finish_bits(&got), finish_bits(m));
             assert_eq!(color_bits(got.color), color_bits(m.color));
         }
         // A NaN is the same NaN: equal bits are shared even where == is false.
@@ -582,13 +552,13 @@ mod tests {
     #[test]
     fn a_hash_collision_stores_the_finish_unshared() {
         let mut table = MaterialTable::default();
-        let a = Finish::of(&glossy(DVec3::ZERO));
-        let b = Finish::of(&Material::default());
-        assert_eq!(table.intern(a, a.bits(), 7), 0);
+        let a = glossy(DVec3::ZERO);
+        let b = Material::default();
+        assert_eq!(table.intern(a, finish_bits(&a), 7), 0);
         // Same hash, different bits: never taken for `a`.
-        assert_eq!(table.intern(b, b.bits(), 7), 1);
-        assert_eq!(table.intern(a, a.bits(), 7), 0);
+        assert_eq!(table.intern(b, finish_bits(&b), 7), 1);
+        assert_eq!(table.intern(a, finish_bits(&a), 7), 0);
         assert_eq!(table.finishes.len(), 2);
-        assert_eq!(table.finishes[1].bits(), b.bits());
+        assert_eq!(finish_bits(&table.finishes[1]), finish_bits(&b));
     }
 }

@@ -53,6 +53,13 @@ impl Site {
     }
 }
 
+/// How many diagnostics and errors [`Diags`] held at some point.
+#[derive(Clone, Copy, Default)]
+struct Checkpoint {
+    diags: usize,
+    errors: usize,
+}
+
 /// Collects diagnostics, turning [`Site`]s into file/line/column/excerpt.
 /// The excerpts (`source_line`) are filled from each piece of text once it
 /// has been read, so reading keeps nothing per line of the file.
@@ -101,6 +108,20 @@ impl Diags {
     /// Number of errors so far.
     pub fn error_count(&self) -> usize {
         self.errors
+    }
+
+    /// What has been recorded so far, to go back to with [`Diags::rollback`].
+    fn checkpoint(&self) -> Checkpoint {
+        Checkpoint {
+            diags: self.out.len(),
+            errors: self.errors,
+        }
+    }
+
+    /// Forgets everything recorded since `cp`.
+    fn rollback(&mut self, cp: Checkpoint) {
+        self.out.truncate(cp.diags);
+        self.errors = cp.errors;
     }
 
     /// Fills the excerpts of the diagnostics from the `from`-th on, all about
@@ -245,6 +266,9 @@ struct Open<'a> {
     primitive: bool,
 }
 
+/// A finished block's vectors, emptied, for the next block.
+type Spare<'a> = (Vec<Entry<'a>>, Vec<Word<'a>>);
+
 /// Where the block still open began, and the state just before its header,
 /// to read it again from there with the next piece of text.
 #[derive(Clone, Copy, Default)]
@@ -253,10 +277,9 @@ struct Mark {
     start: usize,
     /// 0-based line of the header in the file.
     line: usize,
-    /// Diagnostics and errors recorded before the header (`skipping` needs
-    /// no saving: the header line clears it when read again).
-    diags: usize,
-    errors: usize,
+    /// The diagnostics recorded before the header (`skipping` needs no
+    /// saving: the header line clears it when read again).
+    diags: Checkpoint,
 }
 
 /// A scene file being read, piece by piece: what lives from one piece of
@@ -292,7 +315,7 @@ impl<'p> Reader<'p> {
         let first_diag = self.diags.out.len();
         let mut lines = 0;
         let mut open: Option<Open<'_>> = None;
-        let mut spare = (Vec::new(), Vec::new());
+        let mut spare = Spare::default();
         let mut mark = Mark::default();
 
         let mut lexer = lexer::Lexer::new(text);
@@ -343,13 +366,10 @@ impl<'p> Reader<'p> {
             mark = Mark {
                 start: line.start,
                 line: i,
-                diags: self.diags.out.len(),
-                errors: self.diags.errors,
+                diags: self.diags.checkpoint(),
             };
-            match header(i, line, &mut self.diags) {
-                Some(mut block) => {
-                    // The last block's vectors, emptied: no allocation per block.
-                    (block.entries, block.values) = std::mem::take(&mut spare);
+            match header(i, line, &mut self.diags, &mut spare) {
+                Some(block) => {
                     open = Some(block);
                     self.skipping = false;
                 }
@@ -384,8 +404,7 @@ impl<'p> Reader<'p> {
                 finish(block, &mut self.builder, &mut self.diags);
             } else {
                 // Forget the block's lines: they are read again, whole, with the next piece.
-                self.diags.out.truncate(mark.diags);
-                self.diags.errors = mark.errors;
+                self.diags.rollback(mark.diags);
                 self.line = mark.line;
                 carry = mark.start;
             }
@@ -408,8 +427,15 @@ impl<'p> Reader<'p> {
 }
 
 /// Reads a header line; `None` (with no diagnostic) when the first word is
-/// not a header word, `Some` with `kind: None` when it is but its type is wrong.
-fn header<'a>(i: usize, line: &Line<'a, '_>, diags: &mut Diags) -> Option<Open<'a>> {
+/// not a header word, `Some` with `kind: None` when it is but its type is
+/// wrong. The block takes the vectors of `spare` (the last block's, emptied:
+/// no allocation per block).
+fn header<'a>(
+    i: usize,
+    line: &Line<'a, '_>,
+    diags: &mut Diags,
+    spare: &mut Spare<'a>,
+) -> Option<Open<'a>> {
     let first = line.words.first()?;
     let (kind, used) = match first.text {
         "background" => (Some(BlockKind::Background), 1),
@@ -470,11 +496,12 @@ fn header<'a>(i: usize, line: &Line<'a, '_>, diags: &mut Diags) -> Option<Open<'
             None,
         );
     }
+    let (entries, values) = std::mem::take(spare);
     Some(Open {
         kind,
         header: Site::span(i, first, header_end),
-        entries: Vec::new(),
-        values: Vec::new(),
+        entries,
+        values,
         primitive: first.text == "primitive",
     })
 }
@@ -592,11 +619,7 @@ fn bare_word(kind: BlockKind, i: usize, line: &Line<'_, '_>, diags: &mut Diags) 
 }
 
 /// Hands a complete block to the builder; returns its vectors, emptied.
-fn finish<'a>(
-    mut block: Open<'a>,
-    builder: &mut Builder<'_>,
-    diags: &mut Diags,
-) -> (Vec<Entry<'a>>, Vec<Word<'a>>) {
+fn finish<'a>(mut block: Open<'a>, builder: &mut Builder<'_>, diags: &mut Diags) -> Spare<'a> {
     // Numbered here, not at the header: a block read again with the next
     // piece of the file must not take a second number. Blocks finish in file order.
     let index = if block.primitive {

@@ -8,9 +8,9 @@ use rand::Rng;
 use std::f64::consts::TAU;
 
 /// Slots of [`ShadowHints`].
-pub const HINT_SLOTS: usize = 8;
+const HINT_SLOTS: usize = 8;
 
-/// Per light (slot: its index modulo [`HINT_SLOTS`]), the object that last
+/// Per light (slot: its index modulo 8), the object that last
 /// blocked a shadow ray towards it, tried first by the next one: shadow rays
 /// from nearby points mostly meet the same blocker. A stale guess, or a slot
 /// shared by two lights, costs one test; the answers never depend on it.

@@ -3,6 +3,6 @@
 mod light;
 mod texture;
 
-pub use light::{HINT_SLOTS, ShadowFrom, ShadowHints, shade_factor};
+pub use light::{ShadowFrom, ShadowHints, shade_factor};
 pub use light::{perpendiculars, strata};
 pub use texture::Texture;

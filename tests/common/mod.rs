@@ -122,6 +122,23 @@ pub fn json_field<'a>(line: &'a str, key: &str) -> &'a str {
     &rest[..end]
 }
 
+/// A JSON number (as `json_field` gives it).
+pub fn json_number(s: &str) -> f64 {
+    s.parse()
+        .unwrap_or_else(|_| panic!("`{s}` is not a JSON number"))
+}
+
+/// A JSON array of exactly three numbers, such as `[1,-0.5,2e-7]`.
+pub fn json_vec3(s: &str) -> DVec3 {
+    let inner = s
+        .strip_prefix('[')
+        .and_then(|s| s.strip_suffix(']'))
+        .unwrap();
+    let v: Vec<f64> = inner.split(',').map(json_number).collect();
+    assert_eq!(v.len(), 3, "{s}");
+    DVec3::new(v[0], v[1], v[2])
+}
+
 /// A uniform random point in the cube [−`half`, `half`)³.
 pub fn point_in(rng: &mut Pcg64, half: f64) -> DVec3 {
     DVec3::new(
