@@ -1146,7 +1146,14 @@ primitive sphere
         let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("../shared/scenes")
             .join(folder);
-        let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)?
+        let entries = std::fs::read_dir(&dir).map_err(|e| {
+            let what = format!(
+                "{}: {e} (the shared scenes sit beside the repository)",
+                dir.display()
+            );
+            io::Error::new(e.kind(), what)
+        })?;
+        let mut files: Vec<PathBuf> = entries
             .filter_map(|e| e.ok().map(|e| e.path()))
             .filter(|p| p.extension().is_some_and(|x| x == "txt"))
             .collect();
