@@ -71,8 +71,9 @@ impl<'a> Tracer<'a> {
     }
 
     /// The colour seen along a camera ray, adding to `hash` what the
-    /// framework's anti-aliasing compares between neighbours. `hints` are
-    /// the worker's: its neighbouring rays mostly meet the same blockers.
+    /// framework's anti-aliasing compares between neighbours: one ray
+    /// alone, what the tests hold the packets to.
+    #[cfg(test)]
     pub fn trace_camera(
         &self,
         ray: &Ray,
@@ -84,9 +85,11 @@ impl<'a> Tracer<'a> {
         self.trace(ray, 1, st, Some(hash), hints)
     }
 
-    /// [`Tracer::trace_camera`] for a packet of at most [`PACKET_MAX`]
-    /// camera rays (a tile's), whose nearest hits are found together:
-    /// colours into `out`, each exactly what [`Tracer::trace_camera`] gives.
+    /// The colours seen along a packet of at most [`PACKET_MAX`] camera
+    /// rays (a tile's), whose nearest hits are found together, into `out`,
+    /// adding to `hashes` what the framework's anti-aliasing compares
+    /// between neighbours. `hints` are the worker's: its neighbouring rays
+    /// mostly meet the same blockers.
     pub fn trace_camera_packet(
         &self,
         rays: &[Ray],

@@ -99,6 +99,9 @@ pub fn memory_needed(width: u32, height: u32) -> u64 {
     width as u64 * height as u64 * (12 + 4 + 3 + 3)
 }
 
+/// The columns and rows of a tile of pixels.
+type Tile = (std::ops::Range<u32>, std::ops::Range<u32>);
+
 struct Frame<'a> {
     tracer: Tracer<'a>,
     camera: CameraRays,
@@ -140,14 +143,24 @@ impl<'a> Frame<'a> {
         self.camera.ray(i, j)
     }
 
-    /// Traces `n` (at most [`PACKET_MAX`]: a tile, or a pixel's grid) camera
-    /// rays as one packet: ray k is sample `sample` at sub-pixel (fx, fy) of
-    /// pixel (x, y), as `sample_of(k)` = (x, y, fx, fy, sample) gives. Calls
-    /// `each(k, colour, hash, rays)` in order.
+    /// Camera sample `s` of pixel (x, y) among `rows` × `cols` jittered
+    /// strata: its ray, and its random stream after the jitter was drawn.
+    fn jittered(&self, x: u32, y: u32, s: u32, (rows, cols): (u32, u32)) -> (Ray, PathState) {
+        use rand::Rng;
+        let (r, c) = (s / cols, s % cols);
+        let mut st = self.state(x, y, s);
+        let fx = (c as f64 + st.rng.random::<f64>()) / cols as f64;
+        let fy = (r as f64 + st.rng.random::<f64>()) / rows as f64;
+        (self.ray(x, y, fx, fy), st)
+    }
+
+    /// Traces `n` (at most [`PACKET_MAX`]) camera rays as one packet: ray k
+    /// and its random stream are `sample_of(k)`. Calls `each(k, colour,
+    /// hash, rays)` in order.
     fn packet(
         &self,
         n: usize,
-        sample_of: impl Fn(usize) -> (u32, u32, f64, f64, u32),
+        mut sample_of: impl FnMut(usize) -> (Ray, PathState),
         mut each: impl FnMut(usize, DVec3, u64, &RayCounts),
         hints: &mut ShadowHints,
     ) {
@@ -159,8 +172,7 @@ impl<'a> Frame<'a> {
             rays: RayCounts::default(),
         });
         for (k, (ray, st)) in camera.iter_mut().zip(&mut states).take(n).enumerate() {
-            let (x, y, fx, fy, sample) = sample_of(k);
-            (*ray, *st) = (self.ray(x, y, fx, fy), self.state(x, y, sample));
+            (*ray, *st) = sample_of(k);
         }
         let mut hashes = [0u64; PACKET_MAX];
         let mut colors = [DVec3::ZERO; PACKET_MAX];
@@ -185,7 +197,12 @@ impl<'a> Frame<'a> {
         let mut sum = DVec3::ZERO;
         self.packet(
             g * g,
-            |k| (x, y, at(k), at(k / g), 1 + k as u32),
+            |k| {
+                (
+                    self.ray(x, y, at(k), at(k / g)),
+                    self.state(x, y, 1 + k as u32),
+                )
+            },
             |_, c, _, r| {
                 sum += c;
                 rays.add(r);
@@ -200,8 +217,7 @@ impl<'a> Frame<'a> {
     /// `put(x, y, colour, hash)` for each pixel (the hash folded to 32 bits).
     fn centre_tile(
         &self,
-        xs: std::ops::Range<u32>,
-        ys: std::ops::Range<u32>,
+        (xs, ys): Tile,
         rays: &mut RayCounts,
         hints: &mut ShadowHints,
         mut put: impl FnMut(u32, u32, DVec3, u32),
@@ -215,7 +231,7 @@ impl<'a> Frame<'a> {
             w * ys.len(),
             |k| {
                 let (x, y) = pixel(k);
-                (x, y, 0.5, 0.5, 0)
+                (self.ray(x, y, 0.5, 0.5), self.state(x, y, 0))
             },
             |k, c, h, r| {
                 let (x, y) = pixel(k);
@@ -224,6 +240,49 @@ impl<'a> Frame<'a> {
             },
             hints,
         );
+    }
+
+    /// Pass 1 over the tile of columns `xs` and rows `ys` when a pixel takes
+    /// `n` (2 or more) stratified samples: the tile's samples, pixel by
+    /// pixel, in packets of [`PACKET_MAX`]. Calls `put(x, y, mean)` for each
+    /// pixel; the mean sums the samples in their order, as ray after ray would.
+    fn stratified_tile(
+        &self,
+        (xs, ys): Tile,
+        n: u32,
+        rays: &mut RayCounts,
+        hints: &mut ShadowHints,
+        mut put: impl FnMut(u32, u32, DVec3),
+    ) {
+        let strata = crate::shading::strata(n);
+        let (w, n) = (xs.len(), n as usize);
+        let total = w * ys.len() * n;
+        // Sample i of the tile: pixel i / n (row by row), sample i % n.
+        let at = |i: usize| {
+            let p = i / n;
+            let (x, y) = (xs.start + (p % w) as u32, ys.start + (p / w) as u32);
+            (x, y, (i % n) as u32)
+        };
+        let mut sum = DVec3::ZERO;
+        for start in (0..total).step_by(PACKET_MAX) {
+            self.packet(
+                (total - start).min(PACKET_MAX),
+                |k| {
+                    let (x, y, s) = at(start + k);
+                    self.jittered(x, y, s, strata)
+                },
+                |k, c, _, r| {
+                    let (x, y, s) = at(start + k);
+                    sum += c;
+                    rays.add(r);
+                    if s as usize + 1 == n {
+                        put(x, y, sum / n as f64);
+                        sum = DVec3::ZERO;
+                    }
+                },
+                hints,
+            );
+        }
     }
 }
 
@@ -266,24 +325,19 @@ fn render_inner(
             let mut hints = ShadowHints::default();
             for x0 in (0..wu).step_by(BAND) {
                 let x1 = (x0 + BAND).min(wu);
+                let tile = (x0 as u32..x1 as u32, y0 as u32..(y0 + rows) as u32);
+                let index = |x: u32, y: u32| (y as usize - y0) * wu + x as usize;
                 match spp {
                     Some(n) if n > 1 => {
-                        for dy in 0..rows {
-                            for x in x0..x1 {
-                                let (px, py) = (x as u32, (y0 + dy) as u32);
-                                let c = stratified(&frame, px, py, n, &mut rays, &mut hints);
-                                band_pixels[dy * wu + x] = to_f32(c);
-                            }
-                        }
+                        let put = |x, y, c| band_pixels[index(x, y)] = to_f32(c);
+                        frame.stratified_tile(tile, n, &mut rays, &mut hints, put);
                     }
                     _ => {
-                        let ys = y0 as u32..(y0 + rows) as u32;
-                        let mut put = |x: u32, y: u32, c: DVec3, hash: u32| {
-                            let i = (y as usize - y0) * wu + x as usize;
+                        let put = |x, y, c, hash| {
+                            let i = index(x, y);
                             (band_pixels[i], band_hashes[i]) = (to_f32(c), hash);
                         };
-                        let xs = x0 as u32..x1 as u32;
-                        frame.centre_tile(xs, ys, &mut rays, &mut hints, &mut put);
+                        frame.centre_tile(tile, &mut rays, &mut hints, put);
                     }
                 }
             }
@@ -341,33 +395,6 @@ fn to_f32(c: DVec3) -> [f32; 3] {
     c.as_vec3().to_array()
 }
 
-/// The mean of `n` (2 or more) stratified samples in a pixel: a jittered
-/// grid of n strata. (One sample is the pixel's centre, traced in packets.)
-fn stratified(
-    frame: &Frame,
-    x: u32,
-    y: u32,
-    n: u32,
-    rays: &mut RayCounts,
-    hints: &mut ShadowHints,
-) -> DVec3 {
-    use rand::Rng;
-    let (rows, cols) = crate::shading::strata(n);
-    let mut sum = DVec3::ZERO;
-    for r in 0..rows {
-        for c in 0..cols {
-            let mut st = frame.state(x, y, r * cols + c);
-            let fx = (c as f64 + st.rng.random::<f64>()) / cols as f64;
-            let fy = (r as f64 + st.rng.random::<f64>()) / rows as f64;
-            sum += frame
-                .tracer
-                .trace_camera(&frame.ray(x, y, fx, fy), &mut st, &mut 0, hints);
-            rays.add(&st.rays);
-        }
-    }
-    sum / n as f64
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -418,7 +445,7 @@ mod tests {
             (0..61, 20..21),
         ] {
             let mut rays = RayCounts::default();
-            frame.centre_tile(xs, ys, &mut rays, &mut hints, |x, y, c, hash| {
+            frame.centre_tile((xs, ys), &mut rays, &mut hints, |x, y, c, hash| {
                 let mut st = frame.state(x, y, 0);
                 let mut want_hash = 0u64;
                 let mut alone = ShadowHints::default();
@@ -465,6 +492,52 @@ mod tests {
         }
         // Not a blank picture: many different objects were seen.
         assert!(distinct.len() > 20, "{} distinct hashes", distinct.len());
+        Ok(())
+    }
+
+    #[test]
+    fn stratified_packets_equal_single_rays() -> Result<(), crate::scene::SceneError> {
+        use rand::Rng;
+        let scene = scene()?;
+        let accel = Accel::build(&scene.objects);
+        let frame = Frame::new(&scene, &accel, 11);
+        let mut hints = ShadowHints::default();
+        // Sample counts whose packets hold many pixels, a pixel and a half,
+        // and more than a packet per pixel; tiles whole and cut.
+        for (n, (xs, ys)) in [
+            (2, (0..8, 0..8)),
+            (6, (56..61, 8..16)),
+            (9, (24..32, 16..24)),
+            (70, (30..32, 18..19)),
+        ] {
+            let (rows, cols) = crate::shading::strata(n);
+            let mut want_rays = RayCounts::default();
+            let mut want = std::collections::HashMap::new();
+            for y in ys.clone() {
+                for x in xs.clone() {
+                    // The pixel's samples, ray after ray, in stratum order.
+                    let mut sum = DVec3::ZERO;
+                    for s in 0..n {
+                        let mut st = frame.state(x, y, s);
+                        let fx = ((s % cols) as f64 + st.rng.random::<f64>()) / cols as f64;
+                        let fy = ((s / cols) as f64 + st.rng.random::<f64>()) / rows as f64;
+                        let ray = frame.ray(x, y, fx, fy);
+                        let mut alone = ShadowHints::default();
+                        sum += frame.tracer.trace_camera(&ray, &mut st, &mut 0, &mut alone);
+                        want_rays.add(&st.rays);
+                    }
+                    want.insert((x, y), sum / n as f64);
+                }
+            }
+            let mut rays = RayCounts::default();
+            let mut got = std::collections::HashMap::new();
+            frame.stratified_tile((xs, ys), n, &mut rays, &mut hints, |x, y, c| {
+                assert!(got.insert((x, y), c).is_none(), "pixel {x} {y} twice");
+            });
+            assert_eq!(got, want, "{n} samples");
+            assert_eq!(rays, want_rays, "{n} samples");
+            assert!(rays.shadow > 0);
+        }
         Ok(())
     }
 }
