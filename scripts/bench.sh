@@ -6,6 +6,10 @@
 #   scripts/bench.sh --povray [N]    glint and POV-Ray alternately on the
 #                                    equivalent pairs, N rounds (default 3):
 #                                    medians and the ratio
+#   scripts/bench.sh --spheres [N]   100 and 1 000 000 spheres alternately,
+#                                    N rounds (default 5) at 1, 4 and 16
+#                                    samples per pixel: the best tracing
+#                                    times (render - BVH) and their ratio
 #
 # Needs ../shared beside the repository (the framework's scenes and meshes),
 # GNU time at /usr/bin/time, and for --povray `apt-get install povray`.
@@ -88,6 +92,32 @@ if [[ ${1:-} == --povray ]]; then
   exit 0
 fi
 
+# trace SCENE SPP: the tracing time (render - BVH) of one render, two cores.
+trace() {
+  "$glint" render "$1" -o "$work/out.png" --spp "$2" --threads 2 2> "$work/log" || {
+    cat "$work/log" >&2
+    return 1
+  }
+  sed -E 's/.*\(([0-9.]+) s render, ([0-9.]+) s BVH\).*/\1 \2/;t;d' "$work/log" | awk '{printf "%.3f", $1 - $2}'
+}
+
+if [[ ${1:-} == --spheres ]]; then
+  rounds=${2:-5}
+  for n in 100 1000000; do spheres "$n"; done
+  echo "100 and 1 000 000 spheres, alternately, $rounds rounds, best tracing seconds (render - BVH), 2 threads:"
+  printf '| %3s | %11s | %15s | %6s |\n' spp "100 spheres" "1 000 000 spheres" ratio
+  printf '|%s|%s|%s|%s|\n' ----- ------------- ------------------- --------
+  for spp in 1 4 16; do
+    small=1e9 big=1e9
+    for ((k = 0; k < rounds; k++)); do
+      small=$(awk -v a="$small" -v b="$(trace "$work/spheres_100.txt" "$spp")" 'BEGIN {print (b < a) ? b : a}')
+      big=$(awk -v a="$big" -v b="$(trace "$work/spheres_1000000.txt" "$spp")" 'BEGIN {print (b < a) ? b : a}')
+    done
+    printf '| %3s | %11.3f | %17.3f | %5.2fx |\n' "$spp" "$small" "$big" "$(awk -v a="$big" -v b="$small" 'BEGIN {print a / b}')"
+  done
+  exit 0
+fi
+
 for n in 100 10000 1000000; do spheres "$n"; done
 echo "glint benchmark set (one run each; wall = the whole process, parsing included):"
 header
@@ -97,3 +127,5 @@ run "bunny 69k triangles" "$root/bench/bunny.txt" --spp 1
 run "100 spheres" "$work/spheres_100.txt" --spp 1
 run "10 000 spheres" "$work/spheres_10000.txt" --spp 1
 run "1 000 000 spheres" "$work/spheres_1000000.txt" --spp 1
+run "100 spheres, 4 spp" "$work/spheres_100.txt" --spp 4
+run "1 000 000, 4 spp" "$work/spheres_1000000.txt" --spp 4
