@@ -1447,3 +1447,18 @@ proptest! {
         check_well_formed(&text, "no/such/folder");
     }
 }
+
+#[test]
+fn sample_counts_far_above_the_default_warn_at_the_key() {
+    // 64 (1024 rays) is the last value without a warning.
+    for key in ["shade_quality", "drefl_quality"] {
+        let s = ok(&format!("camera\n {key}= 64\nend"));
+        assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+        let d = warning_at(&format!("camera\n O= 0 0 0\n  {key}= 65\nend"), 3, 3);
+        assert!(d.message.contains("1040") && d.message.contains(key), "{d}");
+        let d = warning_at(&format!("camera\n {key}= 1000000\nend"), 2, 2);
+        assert!(d.message.contains("16000000"), "{d}");
+    }
+    let s = ok("camera\n shade_quality= 65\nend");
+    assert_eq!(s.camera.shade_quality, 65, "the value is kept");
+}

@@ -47,6 +47,9 @@ const PARALLEL_SINE: f64 = 1e-12;
 /// How far a cube's `Dx=`/`Dy=` may be from unit length and perpendicular
 /// before a warning says they were adjusted.
 const ORTHONORMAL_TOLERANCE: f64 = 1e-9;
+/// Above this `shade_quality=` or `drefl_quality=` (16 times the
+/// framework's default) a warning says the render will be slow.
+const SLOW_QUALITY: u32 = 64;
 
 /// A kind of light.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -745,6 +748,27 @@ impl<'p> Builder<'p> {
         for (key, target, max) in counts32 {
             if let Some(x) = b.count(key, max) {
                 *target = x as u32;
+            }
+        }
+        for (key, quality, rays) in [
+            (
+                "shade_quality",
+                cam.shade_quality,
+                "shadow rays per shading point and area light",
+            ),
+            (
+                "drefl_quality",
+                cam.drefl_quality,
+                "rays per glossy reflection",
+            ),
+        ] {
+            if let Some((_, site)) = b.fields.num(key).filter(|_| quality > SLOW_QUALITY) {
+                let message = format!(
+                    "`{key}={quality}` means {} {rays} (the default, 4, means 64): \
+                     the render will be very slow",
+                    16 * u64::from(quality)
+                );
+                b.diags.warn(site, message, None);
             }
         }
         // Exactly 2^64: the first whole number that does not fit.
