@@ -11,8 +11,9 @@
 #                                    samples per pixel: the best tracing
 #                                    times (render - BVH) and their ratio
 #
-# Needs ../shared beside the repository (the framework's scenes and meshes),
-# GNU time at /usr/bin/time, and for --povray `apt-get install povray`.
+# Needs ../shared beside the repository (the framework's scenes and meshes;
+# not for --spheres), GNU time at /usr/bin/time, and for --povray
+# `apt-get install povray`.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 shared=${GLINT_SHARED:-$root/../shared}
@@ -92,26 +93,33 @@ if [[ ${1:-} == --povray ]]; then
   exit 0
 fi
 
-# trace SCENE SPP: the tracing time (render - BVH) of one render, two cores.
+# trace SCENE SPP: the tracing time (render - BVH) of one render, two cores;
+# fails when the render fails or its summary line has no times.
 trace() {
   "$glint" render "$1" -o "$work/out.png" --spp "$2" --threads 2 2> "$work/log" || {
     cat "$work/log" >&2
     return 1
   }
-  sed -E 's/.*\(([0-9.]+) s render, ([0-9.]+) s BVH\).*/\1 \2/;t;d' "$work/log" | awk '{printf "%.3f", $1 - $2}'
+  local times
+  times=$(sed -nE 's/.*\(([0-9.]+) s render, ([0-9.]+) s BVH\).*/\1 \2/p' "$work/log")
+  [[ -n $times ]] || { echo "no render and BVH times in glint's output:" >&2; cat "$work/log" >&2; return 1; }
+  awk '{printf "%.3f", $1 - $2}' <<< "$times"
 }
 
 if [[ ${1:-} == --spheres ]]; then
   rounds=${2:-5}
+  [[ $rounds =~ ^[1-9][0-9]*$ ]] || { echo "--spheres takes a number of rounds, 1 or more" >&2; exit 2; }
   for n in 100 1000000; do spheres "$n"; done
   echo "100 and 1 000 000 spheres, alternately, $rounds rounds, best tracing seconds (render - BVH), 2 threads:"
-  printf '| %3s | %11s | %15s | %6s |\n' spp "100 spheres" "1 000 000 spheres" ratio
+  printf '| %3s | %11s | %17s | %6s |\n' spp "100 spheres" "1 000 000 spheres" ratio
   printf '|%s|%s|%s|%s|\n' ----- ------------- ------------------- --------
   for spp in 1 4 16; do
     small=1e9 big=1e9
     for ((k = 0; k < rounds; k++)); do
-      small=$(awk -v a="$small" -v b="$(trace "$work/spheres_100.txt" "$spp")" 'BEGIN {print (b < a) ? b : a}')
-      big=$(awk -v a="$big" -v b="$(trace "$work/spheres_1000000.txt" "$spp")" 'BEGIN {print (b < a) ? b : a}')
+      t=$(trace "$work/spheres_100.txt" "$spp")
+      small=$(awk -v a="$small" -v b="$t" 'BEGIN {print (b < a) ? b : a}')
+      t=$(trace "$work/spheres_1000000.txt" "$spp")
+      big=$(awk -v a="$big" -v b="$t" 'BEGIN {print (b < a) ? b : a}')
     done
     printf '| %3s | %11.3f | %17.3f | %5.2fx |\n' "$spp" "$small" "$big" "$(awk -v a="$big" -v b="$small" 'BEGIN {print a / b}')"
   done

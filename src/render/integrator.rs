@@ -70,9 +70,8 @@ impl<'a> Tracer<'a> {
         }
     }
 
-    /// The colour seen along a camera ray, adding to `hash` what the
-    /// framework's anti-aliasing compares between neighbours: one ray
-    /// alone, what the tests hold the packets to.
+    /// The colour seen along one camera ray, adding to `hash` what the
+    /// anti-aliasing compares: the reference the packet tests compare with.
     #[cfg(test)]
     pub fn trace_camera(
         &self,
@@ -85,11 +84,8 @@ impl<'a> Tracer<'a> {
         self.trace(ray, 1, st, Some(hash), hints)
     }
 
-    /// The colours seen along a packet of at most [`PACKET_MAX`] camera
-    /// rays (a tile's), whose nearest hits are found together, into `out`,
-    /// adding to `hashes` what the framework's anti-aliasing compares
-    /// between neighbours. `hints` are the worker's: its neighbouring rays
-    /// mostly meet the same blockers.
+    /// The colours seen along up to [`PACKET_MAX`] camera rays into `out`,
+    /// adding to `hashes` what the anti-aliasing compares between neighbours.
     pub fn trace_camera_packet(
         &self,
         rays: &[Ray],

@@ -242,10 +242,9 @@ impl<'a> Frame<'a> {
         );
     }
 
-    /// Pass 1 over the tile of columns `xs` and rows `ys` when a pixel takes
-    /// `n` (2 or more) stratified samples: the tile's samples, pixel by
-    /// pixel, in packets of [`PACKET_MAX`]. Calls `put(x, y, mean)` for each
-    /// pixel; the mean sums the samples in their order, as ray after ray would.
+    /// Pass 1 over a tile when a pixel takes `n` (2 or more) stratified
+    /// samples: calls `put(x, y, mean)` for each pixel, the tile's samples
+    /// traced in packets.
     fn stratified_tile(
         &self,
         (xs, ys): Tile,
@@ -255,33 +254,39 @@ impl<'a> Frame<'a> {
         mut put: impl FnMut(u32, u32, DVec3),
     ) {
         let strata = crate::shading::strata(n);
-        let (w, n) = (xs.len(), n as usize);
-        let total = w * ys.len() * n;
-        // Sample i of the tile: pixel i / n (row by row), sample i % n.
-        let at = |i: usize| {
+        let (w, n) = (xs.len() as u64, u64::from(n));
+        // Up to 64 pixels of up to 2^32 samples: u64 on any target.
+        let total = w * ys.len() as u64 * n;
+        // Sample i of the tile: pixel i / n (row by row), sample i % n. A
+        // packet may end inside a pixel; the pixel's sum runs on into the next.
+        let at = |i: u64| {
             let p = i / n;
             let (x, y) = (xs.start + (p % w) as u32, ys.start + (p / w) as u32);
             (x, y, (i % n) as u32)
         };
         let mut sum = DVec3::ZERO;
-        for start in (0..total).step_by(PACKET_MAX) {
+        let mut start = 0;
+        while start < total {
+            let len = (total - start).min(PACKET_MAX as u64);
             self.packet(
-                (total - start).min(PACKET_MAX),
+                len as usize,
                 |k| {
-                    let (x, y, s) = at(start + k);
+                    let (x, y, s) = at(start + k as u64);
                     self.jittered(x, y, s, strata)
                 },
                 |k, c, _, r| {
-                    let (x, y, s) = at(start + k);
+                    let (x, y, s) = at(start + k as u64);
+                    // Summed in sample order, as ray after ray would be.
                     sum += c;
                     rays.add(r);
-                    if s as usize + 1 == n {
+                    if u64::from(s) + 1 == n {
                         put(x, y, sum / n as f64);
                         sum = DVec3::ZERO;
                     }
                 },
                 hints,
             );
+            start += len;
         }
     }
 }
@@ -495,38 +500,48 @@ mod tests {
         Ok(())
     }
 
+    /// Pixel (x, y)'s mean of `n` stratified samples traced ray after ray,
+    /// its jitter drawn here, and the rays that took.
+    fn stratified_alone(frame: &Frame, x: u32, y: u32, n: u32) -> (DVec3, RayCounts) {
+        use rand::Rng;
+        let (rows, cols) = crate::shading::strata(n);
+        let mut rays = RayCounts::default();
+        let mut sum = DVec3::ZERO;
+        for s in 0..n {
+            let mut st = frame.state(x, y, s);
+            let fx = ((s % cols) as f64 + st.rng.random::<f64>()) / cols as f64;
+            let fy = ((s / cols) as f64 + st.rng.random::<f64>()) / rows as f64;
+            let ray = frame.ray(x, y, fx, fy);
+            let mut alone = ShadowHints::default();
+            sum += frame.tracer.trace_camera(&ray, &mut st, &mut 0, &mut alone);
+            rays.add(&st.rays);
+        }
+        (sum / n as f64, rays)
+    }
+
     #[test]
     fn stratified_packets_equal_single_rays() -> Result<(), crate::scene::SceneError> {
-        use rand::Rng;
         let scene = scene()?;
         let accel = Accel::build(&scene.objects);
         let frame = Frame::new(&scene, &accel, 11);
         let mut hints = ShadowHints::default();
-        // Sample counts whose packets hold many pixels, a pixel and a half,
-        // and more than a packet per pixel; tiles whole and cut.
+        // Sample counts whose packets hold many pixels, end inside a pixel
+        // (6, 9, 43) or cover part of one (70); tiles whole, and cut at the
+        // right and bottom edges.
         for (n, (xs, ys)) in [
             (2, (0..8, 0..8)),
             (6, (56..61, 8..16)),
             (9, (24..32, 16..24)),
+            (43, (8..16, 32..37)),
             (70, (30..32, 18..19)),
         ] {
-            let (rows, cols) = crate::shading::strata(n);
             let mut want_rays = RayCounts::default();
             let mut want = std::collections::HashMap::new();
             for y in ys.clone() {
                 for x in xs.clone() {
-                    // The pixel's samples, ray after ray, in stratum order.
-                    let mut sum = DVec3::ZERO;
-                    for s in 0..n {
-                        let mut st = frame.state(x, y, s);
-                        let fx = ((s % cols) as f64 + st.rng.random::<f64>()) / cols as f64;
-                        let fy = ((s / cols) as f64 + st.rng.random::<f64>()) / rows as f64;
-                        let ray = frame.ray(x, y, fx, fy);
-                        let mut alone = ShadowHints::default();
-                        sum += frame.tracer.trace_camera(&ray, &mut st, &mut 0, &mut alone);
-                        want_rays.add(&st.rays);
-                    }
-                    want.insert((x, y), sum / n as f64);
+                    let (c, r) = stratified_alone(&frame, x, y, n);
+                    want.insert((x, y), c);
+                    want_rays.add(&r);
                 }
             }
             let mut rays = RayCounts::default();
@@ -538,6 +553,30 @@ mod tests {
             assert_eq!(rays, want_rays, "{n} samples");
             assert!(rays.shadow > 0);
         }
+        Ok(())
+    }
+
+    #[test]
+    fn a_stratified_render_puts_each_pixel_where_it_belongs() -> Result<(), crate::scene::SceneError>
+    {
+        let scene = scene()?;
+        let options = RenderOptions {
+            threads: Some(2),
+            seed: 3,
+            spp: Some(2),
+        };
+        let (image, rays, _, _) = render_inner(&scene, &options, &|_, _| {});
+        let accel = Accel::build(&scene.objects);
+        let frame = Frame::new(&scene, &accel, 3);
+        let mut want_rays = RayCounts::default();
+        for y in 0..image.height() {
+            for x in 0..image.width() {
+                let (c, r) = stratified_alone(&frame, x, y, 2);
+                assert_eq!(image.pixel(x, y), to_f32(c), "pixel {x} {y}");
+                want_rays.add(&r);
+            }
+        }
+        assert_eq!(rays, want_rays);
         Ok(())
     }
 }

@@ -750,22 +750,24 @@ impl<'p> Builder<'p> {
                 *target = x as u32;
             }
         }
-        for (key, quality, rays) in [
+        for (key, quality, rays, slow) in [
             (
                 "shade_quality",
                 cam.shade_quality,
-                "shadow rays per shading point and area light",
+                "shadow rays per shading point towards each area light",
+                "area lights",
             ),
             (
                 "drefl_quality",
                 cam.drefl_quality,
                 "rays per glossy reflection",
+                "glossy reflections",
             ),
         ] {
             if let Some((_, site)) = b.fields.num(key).filter(|_| quality > SLOW_QUALITY) {
                 let message = format!(
                     "`{key}={quality}` means {} {rays} (the default, 4, means 64): \
-                     the render will be very slow",
+                     a scene with {slow} will render very slowly",
                     16 * u64::from(quality)
                 );
                 b.diags.warn(site, message, None);
