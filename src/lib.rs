@@ -23,5 +23,7 @@ pub mod scene;
 pub mod shading;
 
 pub use output::Image;
-pub use render::{RenderOptions, RenderStats, memory_needed, render, render_with_progress};
+pub use render::{
+    MAX_THREADS, RenderOptions, RenderStats, memory_needed, render, render_with_progress,
+};
 pub use scene::{Scene, SceneError};

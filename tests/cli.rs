@@ -188,6 +188,29 @@ fn zero_spp_or_threads_exit_2_and_write_nothing() {
 }
 
 #[test]
+fn absurd_thread_counts_exit_2_at_once_and_write_nothing() {
+    let dir = scratch("threads");
+    let scene = write(&dir, "s.txt", SMALL);
+    let out = dir.join("s.png");
+    // Each would start that many threads (10 000 idle ones took minutes).
+    for n in ["1025", "100000", "18446744073709551615"] {
+        let o = render(&scene, &out, &["--threads", n]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "--threads {n}: {err}");
+        assert!(
+            err.contains(&format!("invalid value '{n}' for '--threads <THREADS>'"))
+                && err.contains("must be at most 1024"),
+            "--threads {n}: {err}"
+        );
+        assert!(!out.exists(), "--threads {n} wrote {}", out.display());
+    }
+    // 1024 is the largest value accepted.
+    let o = render(&scene, &out, &["--threads", "1024", "--width", "8"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(out.exists());
+}
+
+#[test]
 fn piped_stderr_gets_the_summary_line_but_no_progress_bar() {
     let dir = scratch("progress");
     let scene = write(&dir, "s.txt", SMALL);

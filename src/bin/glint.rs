@@ -2,7 +2,7 @@
 
 use clap::{Args, Parser, Subcommand};
 use glint::probe::{Prober, parse_ray, to_json};
-use glint::{RenderOptions, Scene, memory_needed, render_with_progress};
+use glint::{MAX_THREADS, RenderOptions, Scene, memory_needed, render_with_progress};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::{BufRead, IsTerminal, Read, Write};
 use std::path::{Path, PathBuf};
@@ -38,8 +38,8 @@ struct RenderArgs {
     /// Image height in pixels, overriding the scene's image_H=.
     #[arg(long)]
     height: Option<u32>,
-    /// Worker threads, at least 1 [default: one per core]
-    #[arg(long, value_parser = at_least_one::<usize>)]
+    /// Worker threads, 1 to 1024 [default: one per core]
+    #[arg(long, value_parser = thread_count)]
     threads: Option<usize>,
     /// Seed of the random streams (same scene and seed: same bytes, whatever the threads).
     #[arg(long, default_value_t = 0)]
@@ -78,6 +78,15 @@ where
     let n: T = s.trim().parse().map_err(|e| format!("{e}"))?;
     if n < T::from(1) {
         return Err("must be at least 1".to_string());
+    }
+    Ok(n)
+}
+
+/// Parses `--threads`: 1 to [`MAX_THREADS`].
+fn thread_count(s: &str) -> Result<usize, String> {
+    let n = at_least_one::<usize>(s)?;
+    if n > MAX_THREADS {
+        return Err(format!("must be at most {MAX_THREADS}"));
     }
     Ok(n)
 }

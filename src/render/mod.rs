@@ -22,7 +22,8 @@ use std::time::{Duration, Instant};
 /// How to render.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct RenderOptions {
-    /// Worker threads (`None`: one per core).
+    /// Worker threads, at most [`MAX_THREADS`] (`None`, or a pool the
+    /// system refuses to start: one per core). The image is the same either way.
     pub threads: Option<usize>,
     /// Seed of every random stream.
     pub seed: u64,
@@ -65,6 +66,10 @@ const _: () = assert!(
     "a tile, and a pixel's grid, are one packet each"
 );
 
+/// The most worker threads a render starts: far more than any machine's
+/// cores, and each idle one costs time (10 000 took minutes on 2 cores).
+pub const MAX_THREADS: usize = 1024;
+
 /// Renders a scene, calling `progress(done, total)` (in units of camera
 /// rays) as rows finish; returns the image and the figures.
 pub fn render_with_progress(
@@ -76,7 +81,7 @@ pub fn render_with_progress(
     let run = || render_inner(scene, options, progress);
     let (image, rays, refined, build) = match options.threads {
         Some(n) => match rayon::ThreadPoolBuilder::new()
-            .num_threads(n.max(1))
+            .num_threads(n.clamp(1, MAX_THREADS))
             .build()
         {
             Ok(pool) => pool.install(run),
