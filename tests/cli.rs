@@ -326,3 +326,29 @@ fn probe_rejects_bad_rays_with_line_and_column() {
     );
     assert!(err.contains("rays.txt:4:"), "{err}");
 }
+
+#[test]
+fn control_characters_from_a_scene_reach_the_terminal_escaped() {
+    let dir = scratch("escape");
+    let out = dir.join("s.png");
+    // A warning (unknown key) and an error (text outside a block), each
+    // quoting a word that holds an escape sequence.
+    let scene = write(
+        &dir,
+        "s.txt",
+        "camera\n \u{1b}[31mO= 1 2 3\nend\n\u{1b}[2Jprimitive sphere\nend\n",
+    );
+    let o = render(&scene, &out, &["--quiet"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        !err.contains('\u{1b}'),
+        "a raw escape reached the terminal: {err:?}"
+    );
+    assert!(
+        err.contains("`\\u{1b}[31mO=`") && err.contains("`\\u{1b}[2Jprimitive`"),
+        "{err}"
+    );
+    // The caret still lines up: the quoted line shows the escape as one space.
+    assert!(err.contains("2 |   [31mO= 1 2 3\n  |  ^^^^^^^"), "{err}");
+}

@@ -91,6 +91,26 @@ fn thread_count(s: &str) -> Result<usize, String> {
     Ok(n)
 }
 
+/// Text from a scene or a path made safe for a terminal: control characters
+/// other than line breaks and tabs (an escape sequence could recolour or
+/// clear the screen) are shown escaped, as `\u{1b}`.
+fn shown(text: &str) -> std::borrow::Cow<'_, str> {
+    let unsafe_char = |c: char| c.is_control() && c != '\n' && c != '\t';
+    if !text.chars().any(unsafe_char) {
+        return text.into();
+    }
+    text.chars()
+        .map(|c| {
+            if unsafe_char(c) {
+                c.escape_unicode().to_string()
+            } else {
+                c.to_string()
+            }
+        })
+        .collect::<String>()
+        .into()
+}
+
 /// A failure to report: the message, printed as is, and exit code 2.
 struct Failure(String);
 
@@ -103,7 +123,7 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(Failure(message)) => {
-            eprintln!("{message}");
+            eprintln!("{}", shown(&message));
             ExitCode::from(2)
         }
     }
@@ -113,7 +133,7 @@ fn main() -> ExitCode {
 fn load_scene(path: &Path) -> Result<Scene, Failure> {
     let scene = Scene::from_file(path).map_err(|e| Failure(e.to_string()))?;
     for w in &scene.warnings {
-        eprintln!("{w}\n");
+        eprintln!("{}\n", shown(&w.to_string()));
     }
     Ok(scene)
 }
@@ -130,7 +150,7 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
     apply_size(&mut scene, args.width, args.height)?;
     if args.verbose {
         for note in &scene.notes {
-            eprintln!("note: {note}");
+            eprintln!("note: {}", shown(note));
         }
     }
     let (w, h) = (scene.camera.width, scene.camera.height);
