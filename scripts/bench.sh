@@ -37,22 +37,56 @@ spheres() {
   }' > "$work/spheres_$1.txt"
 }
 
+# glint_render SCENE [glint options]: one render, its wall time and peak
+# memory (GNU time) into $work/time, its summary line into $work/summary;
+# fails, showing glint's output, when the render fails or prints no summary.
+glint_render() {
+  local scene=$1
+  shift
+  if /usr/bin/time -f '%e %M' -o "$work/time" "$glint" render "$scene" -o "$work/out.png" "$@" 2> "$work/log" &&
+    grep 'Mrays/s' "$work/log" > "$work/summary"; then
+    return 0
+  fi
+  cat "$work/log" >&2
+  return 1
+}
+
+# The summary line's figures, each the group of a pattern.
+SIZE_RE='^.*: ([0-9]+x[0-9]+),.*'
+RENDER_RE='.*\(([0-9.]+) s render.*'
+BVH_RE='.*, ([0-9.]+) s BVH\).*'
+RAYS_RE='.*, ([0-9.]+) M rays.*'
+MRAYS_RE='.*, ([0-9.]+) Mrays\/s.*'
+
+# field PATTERN: the group of PATTERN in the last summary line; fails when
+# the line does not match.
+field() {
+  local v
+  v=$(sed -nE "s/$1/\1/p" "$work/summary")
+  [[ -n $v ]] || { echo "no match for '$1' in: $(cat "$work/summary")" >&2; return 1; }
+  echo "$v"
+}
+
+# tracing: the last render's tracing time, render - BVH.
+tracing() {
+  local render bvh
+  render=$(field "$RENDER_RE") || return 1
+  bvh=$(field "$BVH_RE") || return 1
+  awk -v r="$render" -v b="$bvh" 'BEGIN {printf "%.3f", r - b}'
+}
+
 # run NAME SCENE [glint options]: one render; prints a table row.
 run() {
   local name=$1 scene=$2
   shift 2
-  /usr/bin/time -f '%e %M' -o "$work/time" "$glint" render "$scene" -o "$work/out.png" "$@" 2> "$work/log" || {
-    cat "$work/log" >&2
-    return 1
-  }
-  local summary size render bvh trace rays mrays wall kib
-  summary=$(grep 'Mrays/s' "$work/log")
-  size=$(sed -E 's/^.*: ([0-9]+x[0-9]+),.*/\1/' <<< "$summary")
-  render=$(sed -E 's/.*\(([0-9.]+) s render.*/\1/' <<< "$summary")
-  bvh=$(sed -E 's/.*, ([0-9.]+) s BVH\).*/\1/' <<< "$summary")
-  rays=$(sed -E 's/.*, ([0-9.]+) M rays.*/\1/' <<< "$summary")
-  mrays=$(sed -E 's/.*, ([0-9.]+) Mrays\/s.*/\1/' <<< "$summary")
-  trace=$(awk -v r="$render" -v b="$bvh" 'BEGIN {printf "%.3f", r - b}')
+  glint_render "$scene" "$@" || return 1
+  local size render bvh trace rays mrays wall kib
+  size=$(field "$SIZE_RE") || return 1
+  render=$(field "$RENDER_RE") || return 1
+  bvh=$(field "$BVH_RE") || return 1
+  trace=$(tracing) || return 1
+  rays=$(field "$RAYS_RE") || return 1
+  mrays=$(field "$MRAYS_RE") || return 1
   read -r wall kib < "$work/time"
   printf '| %-22s | %-9s | %7s | %8s | %6s | %7s | %8s | %7s | %8.0f |\n' "$name" "$size" "$wall" "$render" "$bvh" "$trace" "$rays" "$mrays" "$((kib / 1024))"
 }
@@ -70,9 +104,9 @@ if [[ ${1:-} == --povray ]]; then
   pair() {
     local name=$1 scene=$2 povfile=$3 w=$4 h=$5 g=() p=() grays=""
     for ((k = 0; k < rounds; k++)); do
-      /usr/bin/time -f '%e' -o "$work/t" "$glint" render "$scene" -o "$work/g.png" --spp 1 2> "$work/glog"
-      g+=("$(cat "$work/t")")
-      grays=$(grep -oE '[0-9.]+ M rays' "$work/glog" | cut -d' ' -f1)
+      glint_render "$scene" --spp 1 || return 1
+      g+=("$(cut -d' ' -f1 "$work/time")")
+      grays=$(field "$RAYS_RE") || return 1
       (cd "$pov" && /usr/bin/time -f '%e' -o "$work/t" povray +W"$w" +H"$h" -A -D +WT2 File_Gamma=1.0 \
         +O"$work/p.png" "$povfile" > /dev/null 2> "$work/plog")
       p+=("$(cat "$work/t")")
@@ -93,17 +127,10 @@ if [[ ${1:-} == --povray ]]; then
   exit 0
 fi
 
-# trace SCENE SPP: the tracing time (render - BVH) of one render, two cores;
-# fails when the render fails or its summary line has no times.
+# trace SCENE SPP: the tracing time of one render on two cores.
 trace() {
-  "$glint" render "$1" -o "$work/out.png" --spp "$2" --threads 2 2> "$work/log" || {
-    cat "$work/log" >&2
-    return 1
-  }
-  local times
-  times=$(sed -nE 's/.*\(([0-9.]+) s render, ([0-9.]+) s BVH\).*/\1 \2/p' "$work/log")
-  [[ -n $times ]] || { echo "no render and BVH times in glint's output:" >&2; cat "$work/log" >&2; return 1; }
-  awk '{printf "%.3f", $1 - $2}' <<< "$times"
+  glint_render "$1" --spp "$2" --threads 2 || return 1
+  tracing
 }
 
 if [[ ${1:-} == --spheres ]]; then

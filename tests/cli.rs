@@ -159,25 +159,31 @@ fn bad_arguments_exit_2_and_write_nothing() {
     assert!(!dir.join("no").exists());
 }
 
+/// Renders `scene` to `out` with the argument `flag value`, which must be
+/// refused: exit 2, clap's message naming the argument and saying `why`,
+/// and no image. Returns the error output.
+fn refused(scene: &str, out: &Path, flag: &str, value: &str, why: &str) -> String {
+    let o = render(scene, out, &[flag, value]);
+    let err = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert_eq!(o.status.code(), Some(2), "{flag} {value}: {err}");
+    let name = flag.trim_start_matches('-').to_uppercase();
+    assert!(
+        err.contains(&format!("invalid value '{value}' for '{flag} <{name}>'"))
+            && err.contains(why),
+        "{flag} {value}: {err}"
+    );
+    assert!(!out.exists(), "{flag} {value} wrote {}", out.display());
+    err
+}
+
 #[test]
 fn zero_spp_or_threads_exit_2_and_write_nothing() {
     let dir = scratch("zero");
     let scene = write(&dir, "s.txt", SMALL);
     let out = dir.join("s.png");
-    for (flag, shown) in [
-        ("--spp", "'--spp <SPP>'"),
-        ("--threads", "'--threads <THREADS>'"),
-    ] {
-        let o = render(&scene, &out, &[flag, "0"]);
-        let err = String::from_utf8_lossy(&o.stderr);
-        assert_eq!(o.status.code(), Some(2), "{flag} 0: {err}");
-        assert!(
-            err.contains(&format!("invalid value '0' for {shown}"))
-                && err.contains("must be at least 1"),
-            "{flag} 0: {err}"
-        );
+    for flag in ["--spp", "--threads"] {
+        let err = refused(&scene, &out, flag, "0", "must be at least 1");
         assert!(!err.contains("panicked"), "{err}");
-        assert!(!out.exists(), "{flag} 0 wrote {}", out.display());
         // Nothing else either (no temporary file): only the scene is there.
         assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "{flag} 0");
     }
@@ -194,15 +200,7 @@ fn absurd_thread_counts_exit_2_at_once_and_write_nothing() {
     let out = dir.join("s.png");
     // Each would start that many threads (10 000 idle ones took minutes).
     for n in ["1025", "100000", "18446744073709551615"] {
-        let o = render(&scene, &out, &["--threads", n]);
-        let err = String::from_utf8_lossy(&o.stderr);
-        assert_eq!(o.status.code(), Some(2), "--threads {n}: {err}");
-        assert!(
-            err.contains(&format!("invalid value '{n}' for '--threads <THREADS>'"))
-                && err.contains("must be at most 1024"),
-            "--threads {n}: {err}"
-        );
-        assert!(!out.exists(), "--threads {n} wrote {}", out.display());
+        refused(&scene, &out, "--threads", n, "must be at most 1024");
     }
     // 1024 is the largest value accepted.
     let o = render(&scene, &out, &["--threads", "1024", "--width", "8"]);

@@ -165,7 +165,7 @@ impl<'a> Frame<'a> {
     fn packet(
         &self,
         n: usize,
-        mut sample_of: impl FnMut(usize) -> (Ray, PathState),
+        sample_of: impl Fn(usize) -> (Ray, PathState),
         mut each: impl FnMut(usize, DVec3, u64, &RayCounts),
         hints: &mut ShadowHints,
     ) {
@@ -227,9 +227,6 @@ impl<'a> Frame<'a> {
         hints: &mut ShadowHints,
         mut put: impl FnMut(u32, u32, DVec3, u32),
     ) {
-        if xs.is_empty() {
-            return;
-        }
         let w = xs.len();
         let pixel = |k: usize| (xs.start + (k % w) as u32, ys.start + (k / w) as u32);
         self.packet(

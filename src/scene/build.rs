@@ -738,36 +738,40 @@ impl<'p> Builder<'p> {
                 }
             }
         }
-        // 16 × quality rays must fit in a u32.
+        // 16 × quality rays must fit in a u32; above SLOW_QUALITY a warning
+        // says what they cost (the rays, what they slow).
         let max_quality = f64::from(u32::MAX / 16);
-        let counts32 = [
-            ("shade_quality", &mut cam.shade_quality, max_quality),
-            ("drefl_quality", &mut cam.drefl_quality, max_quality),
-            ("dofSample", &mut cam.dof.samples, f64::from(u32::MAX)),
-        ];
-        for (key, target, max) in counts32 {
-            if let Some(x) = b.count(key, max) {
-                *target = x as u32;
-            }
-        }
-        for (key, quality, rays, slow) in [
+        let shade = (
+            "shadow rays per shading point towards each area light",
+            "area lights",
+        );
+        let glossy = ("rays per glossy reflection", "glossy reflections");
+        for (key, target, max, slow) in [
             (
                 "shade_quality",
-                cam.shade_quality,
-                "shadow rays per shading point towards each area light",
-                "area lights",
+                &mut cam.shade_quality,
+                max_quality,
+                Some(shade),
             ),
             (
                 "drefl_quality",
-                cam.drefl_quality,
-                "rays per glossy reflection",
-                "glossy reflections",
+                &mut cam.drefl_quality,
+                max_quality,
+                Some(glossy),
             ),
+            ("dofSample", &mut cam.dof.samples, f64::from(u32::MAX), None),
         ] {
-            if let Some((_, site)) = b.fields.num(key).filter(|_| quality > SLOW_QUALITY) {
+            let Some(x) = b.count(key, max) else {
+                continue;
+            };
+            let quality = x as u32;
+            *target = quality;
+            if let (Some((rays, what)), Some((_, site))) = (slow, b.fields.num(key))
+                && quality > SLOW_QUALITY
+            {
                 let message = format!(
                     "`{key}={quality}` means {} {rays} (the default, 4, means 64): \
-                     a scene with {slow} will render very slowly",
+                     a scene with {what} will render very slowly",
                     16 * u64::from(quality)
                 );
                 b.diags.warn(site, message, None);
