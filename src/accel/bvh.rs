@@ -452,13 +452,13 @@ impl RayBox {
 
 /// The larger of `t` and `acc`, or `acc` when `t` is NaN (one `maxsd`).
 #[inline(always)]
-fn max_num(t: f64, acc: f64) -> f64 {
+pub(crate) fn max_num(t: f64, acc: f64) -> f64 {
     if t > acc { t } else { acc }
 }
 
 /// The smaller of `t` and `acc`, or `acc` when `t` is NaN (one `minsd`).
 #[inline(always)]
-fn min_num(t: f64, acc: f64) -> f64 {
+pub(crate) fn min_num(t: f64, acc: f64) -> f64 {
     if t < acc { t } else { acc }
 }
 

@@ -5,7 +5,7 @@
 //! answer is exactly that of [`Accel::intersect`] for the same ray.
 
 use super::Accel;
-use super::bvh::{FAR_SLACK, MISS, Node, Pair, RayBox, STACK_SIZE};
+use super::bvh::{FAR_SLACK, MISS, Node, Pair, RayBox, STACK_SIZE, max_num, min_num};
 use crate::geometry::{Hit, Ray};
 use glam::DVec3;
 
@@ -63,7 +63,7 @@ impl Accel<'_> {
                 + (b[2] + b[5]) as f64 * dir.z
         };
         // The farthest any ray may still reach: never below any ray's limit.
-        let farthest = |t: &[f64; PACKET_MAX]| t[..n].iter().fold(0.0, |a: f64, &x| a.max(x));
+        let farthest = |t: &[f64; PACKET_MAX]| t[..n].iter().fold(0.0, |a: f64, &x| max_num(x, a));
         let mut t_all = farthest(t);
         // Pending nodes with the first ray that may enter them; one push per
         // level, and the tree is shallower than STACK_SIZE.
@@ -87,12 +87,16 @@ impl Accel<'_> {
                 if node.count > 0 {
                     let s = node.start as usize;
                     let prims = &bvh.prims[s..s + node.count as usize];
+                    // Only a ray that had the farthest limit can lower it.
+                    let mut lowered = false;
                     for j in i..n {
                         if j == i || rb[j].entry(&node.bounds, t[j]) != MISS {
+                            let before = t[j];
                             leaf(j, prims, &mut t[j]);
+                            lowered |= before == t_all && t[j] < before;
                         }
                     }
-                    if frustum.is_some() {
+                    if lowered && frustum.is_some() {
                         t_all = farthest(t);
                     }
                     break 'visit;
@@ -180,8 +184,9 @@ impl Frustum {
             let dn = b[near + a] as f64 - self.origin[a];
             let df = b[(near ^ 3) + a] as f64 - self.origin[a];
             let (lo, hi) = (self.inv_lo[a], self.inv_hi[a]);
-            t0 = t0.max((dn * lo).min(dn * hi));
-            t1 = t1.min((df * lo).max(df * hi));
+            // Finite factors: no NaN, so plain comparisons do.
+            t0 = max_num(min_num(dn * lo, dn * hi), t0);
+            t1 = min_num(max_num(df * lo, df * hi), t1);
         }
         t0 > t1 * FAR_SLACK
     }
