@@ -91,6 +91,16 @@ run() {
   printf '| %-22s | %-9s | %7s | %8s | %6s | %7s | %8s | %7s | %8.0f |\n' "$name" "$size" "$wall" "$render" "$bvh" "$trace" "$rays" "$mrays" "$((kib / 1024))"
 }
 
+# median X...: the middle value (the lower one of an even count).
+median() {
+  printf '%s\n' "$@" | sort -n | awk '{a[NR] = $1} END {print a[int((NR + 1) / 2)]}'
+}
+
+# least A B: the smaller number.
+least() {
+  awk -v a="$1" -v b="$2" 'BEGIN {print (b < a) ? b : a}'
+}
+
 header() {
   printf '| %-22s | %-9s | %7s | %8s | %6s | %7s | %8s | %7s | %8s |\n' scene size "wall s" "render s" "BVH s" "trace s" "M rays" "Mrays/s" "peak MiB"
   printf '|%s|%s|%s|%s|%s|%s|%s|%s|%s|\n' ------------------------ ----------- --------- ---------- -------- --------- ---------- --------- ----------
@@ -112,8 +122,8 @@ if [[ ${1:-} == --povray ]]; then
       p+=("$(cat "$work/t")")
     done
     local gm pm prays
-    gm=$(printf '%s\n' "${g[@]}" | sort -n | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}')
-    pm=$(printf '%s\n' "${p[@]}" | sort -n | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}')
+    gm=$(median "${g[@]}")
+    pm=$(median "${p[@]}")
     # POV-Ray's "Rays:" counts camera, reflected and refracted rays; shadow rays come apart.
     prays=$(awk '/^Rays:/ {r = $2} /^Shadow Ray Tests:/ {s = $4} END {printf "%.1f", (r + s) / 1e6}' "$work/plog")
     printf '| %-10s | %8s | %8s | %6.2fx | %8s | %8s | %8.1f | %8.1f |\n' "$name" "$gm" "$pm" "$(awk -v a="$pm" -v b="$gm" 'BEGIN {print a / b}')" \
@@ -144,9 +154,9 @@ if [[ ${1:-} == --spheres ]]; then
     small=1e9 big=1e9
     for ((k = 0; k < rounds; k++)); do
       t=$(trace "$work/spheres_100.txt" "$spp")
-      small=$(awk -v a="$small" -v b="$t" 'BEGIN {print (b < a) ? b : a}')
+      small=$(least "$small" "$t")
       t=$(trace "$work/spheres_1000000.txt" "$spp")
-      big=$(awk -v a="$big" -v b="$t" 'BEGIN {print (b < a) ? b : a}')
+      big=$(least "$big" "$t")
     done
     printf '| %3s | %11.3f | %17.3f | %5.2fx |\n' "$spp" "$small" "$big" "$(awk -v a="$big" -v b="$small" 'BEGIN {print a / b}')"
   done

@@ -11,8 +11,8 @@ mod common;
 
 use common::bezier::Model;
 use common::{
-    half_sizes, json_field, json_number, json_vec3, log_size, point_in, random_sign, rotation,
-    scene_vec, solve_plane,
+    half_sizes, json_field, json_number, json_numbers, json_vec3, log_size, point_in, random_sign,
+    rotation, scene_vec, solve_plane,
 };
 use glam::DVec3;
 use rand::{Rng, SeedableRng};
@@ -57,12 +57,7 @@ fn parse_answer(line: &str) -> Option<Answer> {
                 p => Some(p.parse().unwrap()),
             },
             uv: {
-                let inner = json_field(line, "uv");
-                let v: Vec<f64> = inner[1..inner.len() - 1]
-                    .split(',')
-                    .map(json_number)
-                    .collect();
-                assert_eq!(v.len(), 2, "{line}");
+                let v = json_numbers(json_field(line, "uv"), 2);
                 (v[0], v[1])
             },
         }),

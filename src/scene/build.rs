@@ -766,8 +766,8 @@ impl<'p> Builder<'p> {
             };
             let quality = x as u32;
             *target = quality;
-            if let (Some((rays, what)), Some((_, site))) = (slow, b.fields.num(key))
-                && quality > SLOW_QUALITY
+            if quality > SLOW_QUALITY
+                && let (Some((rays, what)), Some((_, site))) = (slow, b.fields.num(key))
             {
                 let message = format!(
                     "`{key}={quality}` means {} {rays} (the default, 4, means 64): \

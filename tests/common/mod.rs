@@ -128,14 +128,20 @@ pub fn json_number(s: &str) -> f64 {
         .unwrap_or_else(|_| panic!("`{s}` is not a JSON number"))
 }
 
-/// A JSON array of exactly three numbers, such as `[1,-0.5,2e-7]`.
-pub fn json_vec3(s: &str) -> DVec3 {
+/// The numbers of a JSON array of `n` of them, such as `[1,-0.5,2e-7]`.
+pub fn json_numbers(s: &str, n: usize) -> Vec<f64> {
     let inner = s
         .strip_prefix('[')
         .and_then(|s| s.strip_suffix(']'))
-        .unwrap();
+        .unwrap_or_else(|| panic!("`{s}` is not a JSON array"));
     let v: Vec<f64> = inner.split(',').map(json_number).collect();
-    assert_eq!(v.len(), 3, "{s}");
+    assert_eq!(v.len(), n, "{s}");
+    v
+}
+
+/// A JSON array of exactly three numbers.
+pub fn json_vec3(s: &str) -> DVec3 {
+    let v = json_numbers(s, 3);
     DVec3::new(v[0], v[1], v[2])
 }
 
