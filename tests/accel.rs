@@ -921,3 +921,129 @@ fn astronomic_and_nan_objects_are_tested_too() {
     assert!(!accel.occluded(&ray, f64::INFINITY, Some(2)));
     check(&objects, 1000, 10.0, 20);
 }
+
+/// Light buffers against the brute-force any-hit query: for random centres
+/// (inside the scene, on object boxes, far away) and random points (near
+/// surfaces, on the cube's face diagonals and axes through the centre, at
+/// the centre's distance in every direction), the shadow ray from the point
+/// to the centre is blocked exactly when some object lies on it. Returns
+/// how many rays were blocked and how many were not.
+fn check_light_buffers(
+    objects: &[Object],
+    centres: usize,
+    rays: usize,
+    seed: u64,
+) -> (usize, usize) {
+    let mut rng = Pcg64::seed_from_u64(seed);
+    let accel = Accel::build(objects);
+    let (mut blocked, mut clear) = (0, 0);
+    for k in 0..centres {
+        let centre = match k % 4 {
+            0 => point_in(&mut rng, 10.0),
+            // On the surface of an object, or at the centre of one.
+            1 if !objects.is_empty() => {
+                let o = &objects[rng.random_range(0..objects.len())];
+                let ray = Ray::new(point_in(&mut rng, 14.0), unit_vector(&mut rng));
+                match o.shape.intersect(&ray, 0.0, f64::INFINITY) {
+                    Some(h) => ray.at(h.t),
+                    None => o
+                        .shape
+                        .bounds()
+                        .map_or(DVec3::ZERO, |b| (b.min + b.max) * 0.5),
+                }
+            }
+            2 => point_in(&mut rng, 10.0).round(),
+            _ => unit_vector(&mut rng) * 60.0,
+        };
+        let buffer = accel.light_buffer(centre);
+        let mut hint = None;
+        for j in 0..rays {
+            let point = match j % 5 {
+                // On a face diagonal or an axis through the centre: the
+                // direction lies on the edge between faces.
+                0 => {
+                    let s = [0, 1, 2].map(|_| [0.0, 1.0, -1.0][rng.random_range(0..3usize)]);
+                    let d = DVec3::from_array(s);
+                    let d = if d == DVec3::ZERO { DVec3::X } else { d };
+                    centre + d * log_size(&mut rng, 0.01, 20.0)
+                }
+                // Near a surface, just off it.
+                1 | 2 if !objects.is_empty() => {
+                    let ray = random_ray(&mut rng, objects, 14.0);
+                    match accel.intersect(&ray, f64::INFINITY) {
+                        Some((_, h)) => ray.at(h.t) - ray.dir * 1e-7,
+                        None => point_in(&mut rng, 14.0),
+                    }
+                }
+                _ => point_in(&mut rng, 14.0),
+            };
+            let to = centre - point;
+            let dist = to.length();
+            if dist == 0.0 {
+                continue;
+            }
+            for ray in [
+                Ray::new(point, to / dist),
+                Ray::off_surface(point, to / dist),
+            ] {
+                let want = objects
+                    .iter()
+                    .any(|o| blocks(o, &ray, ray.t_min, dist, None));
+                let got = accel.occluded_towards(&buffer, &ray, dist, &mut hint);
+                assert_eq!(got, want, "centre {centre:?}, ray {ray:?} to {dist}");
+                if got {
+                    blocked += 1;
+                } else {
+                    clear += 1;
+                }
+            }
+        }
+    }
+    (blocked, clear)
+}
+
+#[test]
+fn light_buffers_match_brute_force() {
+    let mut rng = Pcg64::seed_from_u64(31);
+    let objects = mixed_scene(&mut rng, 2000, 2000, 2);
+    let (blocked, clear) = check_light_buffers(&objects, 12, 400, 32);
+    // Both answers occur often.
+    assert!(
+        blocked > 1000 && clear > 1000,
+        "{blocked} blocked, {clear} clear"
+    );
+    let objects = all_kinds_scene(&mut rng, 150, 1);
+    let (blocked, clear) = check_light_buffers(&objects, 12, 300, 33);
+    assert!(
+        blocked > 500 && clear > 500,
+        "{blocked} blocked, {clear} clear"
+    );
+}
+
+#[test]
+fn small_light_buffers_match_brute_force() {
+    let mut rng = Pcg64::seed_from_u64(35);
+    for n in 0..40 {
+        let objects = if n % 2 == 0 {
+            mixed_scene(&mut rng, n, n / 2, n % 3)
+        } else {
+            all_kinds_scene(&mut rng, n / 3, n % 2)
+        };
+        check_light_buffers(&objects, 4, 60, 300 + n as u64);
+    }
+}
+
+/// A dense cloud of small spheres (the million-sphere benchmark's, smaller):
+/// long runs in each cell, most shadow rays stopped by a neighbour.
+#[test]
+fn light_buffer_in_a_dense_cloud_matches_brute_force() {
+    let mut rng = Pcg64::seed_from_u64(37);
+    let objects: Vec<Object> = (0..20_000)
+        .map(|_| object(sphere(point_in(&mut rng, 5.0), 0.09), None))
+        .collect();
+    let (blocked, clear) = check_light_buffers(&objects, 8, 300, 38);
+    assert!(
+        blocked > 500 && clear > 300,
+        "{blocked} blocked, {clear} clear"
+    );
+}

@@ -39,6 +39,7 @@ fn factor(
         accel,
         l,
         light as u32,
+        None,
         &at(point),
         samples,
         &mut rng,
