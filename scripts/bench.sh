@@ -9,7 +9,7 @@
 #   scripts/bench.sh --spheres [N]   100 and 1 000 000 spheres alternately,
 #                                    N rounds (default 5) at 1, 4 and 16
 #                                    samples per pixel: the best tracing
-#                                    times (render - build) and their ratio
+#                                    times (render - BVH) and their ratio
 #
 # Needs ../shared beside the repository (the framework's scenes and meshes;
 # not for --spheres), GNU time at /usr/bin/time, and for --povray
@@ -54,7 +54,7 @@ glint_render() {
 # The summary line's figures, each the group of a pattern.
 SIZE_RE='^.*: ([0-9]+x[0-9]+),.*'
 RENDER_RE='.*\(([0-9.]+) s render.*'
-BUILD_RE='.*, ([0-9.]+) s build\).*'
+BVH_RE='.*, ([0-9.]+) s BVH\).*'
 RAYS_RE='.*, ([0-9.]+) M rays.*'
 MRAYS_RE='.*, ([0-9.]+) Mrays\/s.*'
 
@@ -67,13 +67,12 @@ field() {
   echo "$v"
 }
 
-# tracing: the last render's tracing time, render - build (the BVH and
-# the light buffers).
+# tracing: the last render's tracing time, render - BVH.
 tracing() {
-  local render build
+  local render bvh
   render=$(field "$RENDER_RE") || return 1
-  build=$(field "$BUILD_RE") || return 1
-  awk -v r="$render" -v b="$build" 'BEGIN {printf "%.3f", r - b}'
+  bvh=$(field "$BVH_RE") || return 1
+  awk -v r="$render" -v b="$bvh" 'BEGIN {printf "%.3f", r - b}'
 }
 
 # run NAME SCENE [glint options]: one render; prints a table row.
@@ -81,15 +80,15 @@ run() {
   local name=$1 scene=$2
   shift 2
   glint_render "$scene" "$@" || return 1
-  local size render build trace rays mrays wall kib
+  local size render bvh trace rays mrays wall kib
   size=$(field "$SIZE_RE") || return 1
   render=$(field "$RENDER_RE") || return 1
-  build=$(field "$BUILD_RE") || return 1
+  bvh=$(field "$BVH_RE") || return 1
   trace=$(tracing) || return 1
   rays=$(field "$RAYS_RE") || return 1
   mrays=$(field "$MRAYS_RE") || return 1
   read -r wall kib < "$work/time"
-  printf '| %-22s | %-9s | %7s | %8s | %6s | %7s | %8s | %7s | %8.0f |\n' "$name" "$size" "$wall" "$render" "$build" "$trace" "$rays" "$mrays" "$((kib / 1024))"
+  printf '| %-22s | %-9s | %7s | %8s | %6s | %7s | %8s | %7s | %8.0f |\n' "$name" "$size" "$wall" "$render" "$bvh" "$trace" "$rays" "$mrays" "$((kib / 1024))"
 }
 
 # median X...: the middle value (the lower one of an even count).
@@ -103,7 +102,7 @@ least() {
 }
 
 header() {
-  printf '| %-22s | %-9s | %7s | %8s | %6s | %7s | %8s | %7s | %8s |\n' scene size "wall s" "render s" "build s" "trace s" "M rays" "Mrays/s" "peak MiB"
+  printf '| %-22s | %-9s | %7s | %8s | %6s | %7s | %8s | %7s | %8s |\n' scene size "wall s" "render s" "BVH s" "trace s" "M rays" "Mrays/s" "peak MiB"
   printf '|%s|%s|%s|%s|%s|%s|%s|%s|%s|\n' ------------------------ ----------- --------- ---------- -------- --------- ---------- --------- ----------
 }
 
@@ -148,7 +147,7 @@ if [[ ${1:-} == --spheres ]]; then
   rounds=${2:-5}
   [[ $rounds =~ ^[1-9][0-9]*$ ]] || { echo "--spheres takes a number of rounds, 1 or more" >&2; exit 2; }
   for n in 100 1000000; do spheres "$n"; done
-  echo "100 and 1 000 000 spheres, alternately, $rounds rounds, best tracing seconds (render - build), 2 threads:"
+  echo "100 and 1 000 000 spheres, alternately, $rounds rounds, best tracing seconds (render - BVH), 2 threads:"
   printf '| %3s | %11s | %17s | %6s |\n' spp "100 spheres" "1 000 000 spheres" ratio
   printf '|%s|%s|%s|%s|\n' ----- ------------- ------------------- --------
   for spp in 1 4 16; do

@@ -39,7 +39,6 @@ fn factor(
         accel,
         l,
         light as u32,
-        None,
         &at(point),
         samples,
         &mut rng,

@@ -64,11 +64,23 @@ impl Item {
     /// The item for primitive `index` with bounds `b`, or `None` when the
     /// box is not finite or too large for f32 (such objects are tested apart).
     pub(crate) fn new(index: u32, b: &Aabb) -> Option<Item> {
-        let p = padded(b)?;
+        let lo = b.min.to_array();
+        let hi = b.max.to_array();
+        let mut extent: f64 = 0.0;
+        let mut mag: f64 = 0.0;
+        for a in 0..3 {
+            let ok = lo[a] <= hi[a] && lo[a].abs() <= MAX_COORD && hi[a].abs() <= MAX_COORD;
+            if !ok {
+                return None;
+            }
+            extent = extent.max(hi[a] - lo[a]);
+            mag = mag.max(lo[a].abs()).max(hi[a].abs());
+        }
+        let pad = (extent + mag) * BOX_PAD;
         let mut bounds = [0.0; 6];
         for a in 0..3 {
-            bounds[a] = f32_down(p[a]);
-            bounds[a + 3] = f32_up(p[a + 3]);
+            bounds[a] = f32_down(lo[a] - pad);
+            bounds[a + 3] = f32_up(hi[a] + pad);
         }
         Some(Item { bounds, index })
     }
@@ -85,35 +97,8 @@ impl Item {
     }
 }
 
-/// Box `b` (lowest corner, then highest) padded by [`BOX_PAD`] of its size
-/// plus its distance from the origin, so it holds every hit the primitive's
-/// test may report; `None` when it is not finite or beyond [`MAX_COORD`].
-pub(crate) fn padded(b: &Aabb) -> Option<[f64; 6]> {
-    let lo = b.min.to_array();
-    let hi = b.max.to_array();
-    let mut extent: f64 = 0.0;
-    let mut mag: f64 = 0.0;
-    for a in 0..3 {
-        let ok = lo[a] <= hi[a] && lo[a].abs() <= MAX_COORD && hi[a].abs() <= MAX_COORD;
-        if !ok {
-            return None;
-        }
-        extent = extent.max(hi[a] - lo[a]);
-        mag = mag.max(lo[a].abs()).max(hi[a].abs());
-    }
-    let pad = (extent + mag) * BOX_PAD;
-    Some([
-        lo[0] - pad,
-        lo[1] - pad,
-        lo[2] - pad,
-        hi[0] + pad,
-        hi[1] + pad,
-        hi[2] + pad,
-    ])
-}
-
 /// The largest f32 not above `x`.
-pub(crate) fn f32_down(x: f64) -> f32 {
+fn f32_down(x: f64) -> f32 {
     let f = x as f32;
     if f as f64 > x { f.next_down() } else { f }
 }

@@ -5,19 +5,15 @@
 //! (planes), and any whose bounds are not finite or beyond 1e30, are tested
 //! one by one. Queries come one ray at a time, as packets of coherent rays
 //! (a tile's camera rays), or, for a ray leaving a surface, as a walk up
-//! the tree from that surface's leaf; shadow rays towards a point light
-//! can go through a light buffer around it instead. Answers are exactly those of testing
+//! the tree from that surface's leaf. Answers are exactly those of testing
 //! every object in index order: same object, same hit.
 
 mod bvh;
-mod light_buffer;
 mod packet;
 
 use crate::geometry::{Hit, Ray};
 use crate::scene::Object;
 use bvh::{Bvh, Item};
-use glam::DVec3;
-pub use light_buffer::LightBuffer;
 pub use packet::PACKET_MAX;
 
 /// Answers ray queries over a list of objects.
@@ -131,38 +127,6 @@ impl<'a> Accel<'a> {
             *hint = blocker;
         }
         blocker.is_some()
-    }
-
-    /// A light buffer around `center` over these objects, for
-    /// [`Accel::occluded_towards`].
-    pub fn light_buffer(&self, center: DVec3) -> LightBuffer {
-        LightBuffer::build(self, center)
-    }
-
-    /// [`Accel::occluded`] (no light ignored) for a ray running from its
-    /// origin straight to the centre of `buffer`, at `t_max`, through the
-    /// buffer (built by [`Accel::light_buffer`] of this structure); `hint`
-    /// as in [`Accel::occluded_hinted`].
-    pub fn occluded_towards(
-        &self,
-        buffer: &LightBuffer,
-        ray: &Ray,
-        t_max: f64,
-        hint: &mut Option<u32>,
-    ) -> bool {
-        debug_assert!(
-            (ray.origin + ray.dir * t_max).distance(buffer.center()) <= 1e-6 * (1.0 + t_max),
-            "the ray runs to the buffer's centre"
-        );
-        let blocks = |i: u32| self.blocks(i, ray, t_max, None);
-        if hint.is_some_and(blocks) {
-            return true;
-        }
-        if let Some(&i) = self.unbounded.iter().find(|&&i| blocks(i)) {
-            *hint = Some(i);
-            return true;
-        }
-        buffer.occluded(ray, t_max, blocks, hint)
     }
 
     /// Whether object `i` lies on the ray with `ray.t_min` < t < `t_max`

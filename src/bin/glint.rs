@@ -182,7 +182,7 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
     if !args.quiet {
         let r = stats.rays;
         eprintln!(
-            "{}: {}x{}, {:.3} s wall ({:.3} s render, {:.3} s build), {:.1} M rays, {:.1} Mrays/s",
+            "{}: {}x{}, {:.3} s wall ({:.3} s render, {:.3} s BVH), {:.1} M rays, {:.1} Mrays/s",
             output.display(),
             w,
             h,

@@ -1,6 +1,6 @@
 //! The framework's shading model (spec: "Shading model"), computed exactly.
 
-use crate::accel::{Accel, LightBuffer, PACKET_MAX};
+use crate::accel::{Accel, PACKET_MAX};
 use crate::geometry::{Hit, Ray, offset_origin};
 use crate::scene::{LightKind, Origin, Scene};
 use crate::shading::{ShadowFrom, ShadowHints, shade_factor};
@@ -10,9 +10,6 @@ use rand_pcg::Pcg32;
 
 /// A ray of this depth returns black (the camera ray has depth 1).
 pub const MAX_DEPTH: u32 = 10;
-/// Light buffers are built for point lights, in order, while the objects
-/// they hold together stay below this (8 buffers for a million objects).
-const LIGHT_BUFFER_OBJECTS: usize = 8_000_000;
 /// Glossy reflections are averaged over many rays up to this depth, one ray
 /// deeper; each glossy ray also counts this many levels (the framework's
 /// `MAX_DREFL_DEP`), so a glossy surface seen in a glossy reflection takes one ray.
@@ -58,33 +55,16 @@ pub struct PathState {
 pub struct Tracer<'a> {
     scene: &'a Scene,
     accel: &'a Accel<'a>,
-    /// Per light: the light buffer its shadow rays go through, if any.
-    buffers: Vec<Option<LightBuffer>>,
     shadow_samples: u32,
     glossy_samples: u32,
 }
 
 impl<'a> Tracer<'a> {
-    /// A tracer over `scene` using `accel` for ray queries, with light
-    /// buffers around its point lights.
+    /// A tracer over `scene` using `accel` for ray queries.
     pub fn new(scene: &'a Scene, accel: &'a Accel<'a>) -> Self {
-        let allowed = LIGHT_BUFFER_OBJECTS / accel.objects().len().max(1);
-        let mut built = 0;
-        let buffers = scene
-            .lights
-            .iter()
-            .map(|light| match light.kind {
-                LightKind::Point { pos } if built < allowed => {
-                    built += 1;
-                    Some(accel.light_buffer(pos))
-                }
-                _ => None,
-            })
-            .collect();
         Tracer {
             scene,
             accel,
-            buffers,
             shadow_samples: 16 * scene.camera.shade_quality.max(1),
             glossy_samples: 16 * scene.camera.drefl_quality.max(1),
         }
@@ -195,7 +175,6 @@ impl<'a> Tracer<'a> {
                     self.accel,
                     light,
                     li as u32,
-                    self.buffers[li].as_ref(),
                     &from,
                     self.shadow_samples,
                     &mut st.rng,

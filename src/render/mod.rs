@@ -299,11 +299,10 @@ fn render_inner(
     progress: &(dyn Fn(u64, u64) + Sync),
 ) -> (Image, RayCounts, u64, Duration) {
     let (w, h) = (scene.camera.width, scene.camera.height);
-    // The acceleration structures: the tree, then the frame's light buffers.
     let build_start = Instant::now();
     let accel = Accel::build(&scene.objects);
-    let frame = Frame::new(scene, &accel, options.seed);
     let build = build_start.elapsed();
+    let frame = Frame::new(scene, &accel, options.seed);
     let spp = options.spp.map(|n| n.max(1));
     let per_pixel = spp.unwrap_or(1) as u64;
     let total = AtomicU64::new(w as u64 * h as u64 * per_pixel);

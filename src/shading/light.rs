@@ -1,6 +1,6 @@
 //! Shadow rays: the fraction of a light that a point sees.
 
-use crate::accel::{Accel, LightBuffer};
+use crate::accel::Accel;
 use crate::geometry::{Ray, Sphere, offset_origin};
 use crate::scene::{Light, LightKind};
 use glam::DVec3;
@@ -28,16 +28,13 @@ pub struct ShadowFrom {
 }
 
 /// The shade factor s in [0, 1]: the fraction of shadow rays from `from`
-/// that reach light `index`. Point lights take one ray (through `buffer`,
-/// the light buffer around the light, if any); area lights `samples`,
-/// stratified. Returns s and the number of shadow rays traced; `hints` is
-/// read and updated.
-#[allow(clippy::too_many_arguments)]
+/// that reach light `index`. Point lights take one ray; area lights
+/// `samples`, stratified. Returns s and the number of shadow rays traced;
+/// `hints` is read and updated.
 pub fn shade_factor(
     accel: &Accel,
     light: &Light,
     index: u32,
-    buffer: Option<&LightBuffer>,
     from: &ShadowFrom,
     samples: u32,
     rng: &mut impl Rng,
@@ -54,12 +51,8 @@ pub fn shade_factor(
         LightKind::Point { pos } => {
             let to = pos - origin;
             let dist = to.length();
-            let ray = towards(to / dist);
             let blocked = dist > 0.0
-                && match buffer {
-                    Some(b) => accel.occluded_towards(b, &ray, dist, blocker),
-                    None => accel.occluded_hinted(&ray, dist, None, leaving, blocker),
-                };
+                && accel.occluded_hinted(&towards(to / dist), dist, None, leaving, blocker);
             (if blocked { 0.0 } else { 1.0 }, 1)
         }
         LightKind::Square { center, dx, dy } => {
