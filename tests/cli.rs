@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{json_field, json_vec3};
+use common::{json_field, json_number, json_vec3};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
@@ -286,7 +286,7 @@ primitive cube\n    O= 0 0 10\n    Dx= 1 0 0\n    Dy= 0 1 0\n    x= 1\n    y= 2\
     ];
     for (line, (t, p, n, front, prim)) in lines.iter().zip(want) {
         assert_eq!(json_field(line, "hit"), "true", "{line}");
-        let got_t: f64 = json_field(line, "t").parse().unwrap();
+        let got_t = json_number(json_field(line, "t"));
         assert!((got_t - t).abs() <= 1e-9 * t, "{line}");
         let (gp, gn) = (
             json_vec3(json_field(line, "point")),

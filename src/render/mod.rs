@@ -502,18 +502,14 @@ mod tests {
         Ok(())
     }
 
-    /// Pixel (x, y)'s mean of `n` stratified samples traced ray after ray,
-    /// its jitter drawn here, and the rays that took.
+    /// Pixel (x, y)'s mean of `n` stratified samples traced ray after ray
+    /// (the samples [`Frame::jittered`] gives), and the rays that took.
     fn stratified_alone(frame: &Frame, x: u32, y: u32, n: u32) -> (DVec3, RayCounts) {
-        use rand::Rng;
-        let (rows, cols) = crate::shading::strata(n);
+        let strata = crate::shading::strata(n);
         let mut rays = RayCounts::default();
         let mut sum = DVec3::ZERO;
         for s in 0..n {
-            let mut st = frame.state(x, y, s);
-            let fx = ((s % cols) as f64 + st.rng.random::<f64>()) / cols as f64;
-            let fy = ((s / cols) as f64 + st.rng.random::<f64>()) / rows as f64;
-            let ray = frame.ray(x, y, fx, fy);
+            let (ray, mut st) = frame.jittered(x, y, s, strata);
             let mut alone = ShadowHints::default();
             sum += frame.tracer.trace_camera(&ray, &mut st, &mut 0, &mut alone);
             rays.add(&st.rays);
