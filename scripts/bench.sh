@@ -9,7 +9,10 @@
 #   scripts/bench.sh --spheres [N]   100 and 1 000 000 spheres alternately,
 #                                    N rounds (default 5) at 1, 4 and 16
 #                                    samples per pixel: the best tracing
-#                                    times (render - BVH) and their ratio
+#                                    times (render - BVH) and their ratio;
+#                                    then, if POV-Ray is installed, its
+#                                    trace times and ratio on the same two
+#                                    scenes at one ray per pixel
 #
 # Needs ../shared beside the repository (the framework's scenes and meshes;
 # not for --spheres), GNU time at /usr/bin/time, and for --povray
@@ -22,19 +25,39 @@ glint=$root/target/release/glint
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
-# N random diffuse spheres in a 10-unit box (radius ~ N^-1/3: the cloud looks
-# alike at every N), a floor and one point light; deterministic.
+# spheres N [pov]: N random diffuse spheres in a 10-unit box (radius ~ N^-1/3:
+# the cloud looks alike at every N), a floor and one point light;
+# deterministic. With "pov", the same scene for POV-Ray 3.7 (the camera
+# written as in ../shared/bench/povray: z up, the framework's lens).
 spheres() {
-  awk -v n="$1" 'BEGIN {
+  local ext=txt
+  [[ ${2:-} == pov ]] && ext=pov
+  awk -v n="$1" -v pov="${2:-}" 'BEGIN {
     srand(42); r = 2.5 * n ^ (-1 / 3)
-    print "background\n top= 0.6 0.7 0.9\nend"
-    print "camera\n O= 0 -14 6\n N= 0 1 -0.25\n lens_W= 1.0\n lens_H= 0.75\n image_W= 1024\n image_H= 768\nend"
-    print "light point\n O= 6 -10 16\n color= 1 1 1\nend"
-    print "primitive plane\n N= 0 0 1\n R= 0\n color= 0.8 0.8 0.8\n diff= 0.8\nend"
-    for (i = 0; i < n; i++)
-      printf "primitive sphere\n O= %.5f %.5f %.5f\n R= %.5f\n color= %.3f %.3f %.3f\n diff= 0.9\nend\n",
-        10 * rand() - 5, 10 * rand() - 5, 10 * rand() + 0.5, r, rand(), rand(), rand()
-  }' > "$work/spheres_$1.txt"
+    if (pov) {
+      print "#version 3.7;\nglobal_settings { assumed_gamma 1.0 max_trace_level 10 adc_bailout 0 }"
+      print "#default { finish { ambient 0 diffuse 0 } }"
+      print "#declare CamN = vnormalize(<0, 1, -0.25>);\n#declare CamDx = vnormalize(vcross(CamN, z));"
+      print "camera { perspective location <0, -14, 6> direction CamN right CamDx * 1.0 up vcross(CamDx, CamN) * 0.75 }"
+      print "background { rgb <0.6, 0.7, 0.9> }\nlight_source { <6, -10, 16> rgb 1 }"
+      print "plane { z, 0 texture { pigment { rgb 0.8 } finish { diffuse 0.8 } } }"
+    } else {
+      print "background\n top= 0.6 0.7 0.9\nend"
+      print "camera\n O= 0 -14 6\n N= 0 1 -0.25\n lens_W= 1.0\n lens_H= 0.75\n image_W= 1024\n image_H= 768\nend"
+      print "light point\n O= 6 -10 16\n color= 1 1 1\nend"
+      print "primitive plane\n N= 0 0 1\n R= 0\n color= 0.8 0.8 0.8\n diff= 0.8\nend"
+    }
+    for (i = 0; i < n; i++) {
+      x = 10 * rand() - 5; y = 10 * rand() - 5; z = 10 * rand() + 0.5
+      cr = rand(); cg = rand(); cb = rand()
+      if (pov)
+        printf "sphere { <%.5f, %.5f, %.5f>, %.5f texture { pigment { rgb <%.3f, %.3f, %.3f> } finish { diffuse 0.9 } } }\n",
+          x, y, z, r, cr, cg, cb
+      else
+        printf "primitive sphere\n O= %.5f %.5f %.5f\n R= %.5f\n color= %.3f %.3f %.3f\n diff= 0.9\nend\n",
+          x, y, z, r, cr, cg, cb
+    }
+  }' > "$work/spheres_$1.$ext"
 }
 
 # glint_render SCENE [glint options]: one render, its wall time and peak
@@ -160,6 +183,29 @@ if [[ ${1:-} == --spheres ]]; then
     done
     printf '| %3s | %11.3f | %17.3f | %5.2fx |\n' "$spp" "$small" "$big" "$(awk -v a="$big" -v b="$small" 'BEGIN {print a / b}')"
   done
+  command -v povray > /dev/null || { echo "(POV-Ray is not installed: no comparison of its ratio)"; exit 0; }
+  # povtrace N: POV-Ray's trace time (its own figure, parsing and bounding
+  # apart) for the twin of spheres_N, one ray per pixel, two threads.
+  povtrace() {
+    (cd "$work" && povray +W1024 +H768 -A -D +WT2 File_Gamma=1.0 +O"$work/p.png" "spheres_$1.pov" > /dev/null 2> "$work/plog") || {
+      cat "$work/plog" >&2
+      return 1
+    }
+    local t
+    t=$(sed -nE 's/^ *Trace Time:.*\(([0-9.]+) seconds\).*/\1/p' "$work/plog")
+    [[ -n $t ]] || { echo "no trace time in POV-Ray's output" >&2; return 1; }
+    echo "$t"
+  }
+  for n in 100 1000000; do spheres "$n" pov; done
+  small=1e9 big=1e9
+  for ((k = 0; k < rounds; k++)); do
+    t=$(povtrace 100)
+    small=$(least "$small" "$t")
+    t=$(povtrace 1000000)
+    big=$(least "$big" "$t")
+  done
+  echo "POV-Ray 3.7 on the same two scenes, alternately, $rounds rounds, best trace seconds (its own figure), 2 threads, no anti-aliasing:"
+  printf '| %3s | %11.3f | %17.3f | %5.2fx |\n' 1 "$small" "$big" "$(awk -v a="$big" -v b="$small" 'BEGIN {print a / b}')"
   exit 0
 fi
 
