@@ -921,3 +921,106 @@ fn astronomic_and_nan_objects_are_tested_too() {
     assert!(!accel.occluded(&ray, f64::INFINITY, Some(2)));
     check(&objects, 1000, 10.0, 20);
 }
+
+/// Checks the shadow rays of random surface points towards random boxes
+/// (area lights' extents, or objects' boxes taken as lights): each ray's
+/// answer among the leaves [`Accel::shadow_leaves`] finds is brute force's.
+/// Returns how many points had their leaves found, and how many rays of
+/// those were blocked and free.
+fn check_shadow_leaves(objects: &[Object], points: usize, seed: u64) -> (usize, usize, usize) {
+    let accel = Accel::build(objects);
+    let lit: Vec<&Object> = objects.iter().filter(|o| o.light().is_some()).collect();
+    let mut rng = Pcg64::seed_from_u64(seed);
+    let (mut found, mut blocked, mut free) = (0, 0, 0);
+    let mut hint = None;
+    for n in 0..points {
+        let ray = random_ray(&mut rng, objects, 12.0);
+        let Some((i, h)) = brute_intersect(objects, &ray, f64::INFINITY) else {
+            continue;
+        };
+        let s = objects[i as usize].shape.surface(&ray, &h);
+        let side = if s.normal.dot(ray.dir) < 0.0 {
+            s.normal
+        } else {
+            -s.normal
+        };
+        let origin = offset_origin(s.point, side);
+        // The light: an object's box (that object then its own light's
+        // surface, skipped), a small box anywhere, or a flat one.
+        let target = if !lit.is_empty() && rng.random_bool(0.5) {
+            lit[rng.random_range(0..lit.len())]
+        } else {
+            &objects[rng.random_range(0..objects.len())]
+        };
+        let (min, max, ignore) = match (rng.random_range(0..3), target.shape.bounds()) {
+            (0, Some(b)) if b.min.is_finite() && b.max.is_finite() => {
+                (b.min, b.max, target.light())
+            }
+            (k, _) => {
+                let c = point_in(&mut rng, 12.0);
+                let mut half = half_sizes(&mut rng, 0.05, 1.0);
+                if k == 2 {
+                    half[rng.random_range(0..3usize)] = 0.0;
+                }
+                (c - half, c + half, None)
+            }
+        };
+        let Some(leaves) = accel.shadow_leaves(origin, min, max, ignore) else {
+            continue;
+        };
+        found += 1;
+        for _ in 0..16 {
+            let u = DVec3::new(rng.random(), rng.random(), rng.random());
+            let q = min + (max - min) * u;
+            let to = q - origin;
+            let dist = to.length();
+            if dist == 0.0 {
+                continue;
+            }
+            let shadow = Ray::off_surface(origin, to * (1.0 / dist));
+            let want = objects
+                .iter()
+                .any(|o| blocks(o, &shadow, shadow.t_min, dist, ignore));
+            let got = accel.occluded_among(&shadow, dist, ignore, &leaves, &mut hint);
+            assert_eq!(
+                got, want,
+                "point {n}: {shadow:?} to {q}, ignoring {ignore:?}"
+            );
+            if want {
+                blocked += 1;
+            } else {
+                free += 1;
+            }
+        }
+    }
+    (found, blocked, free)
+}
+
+#[test]
+fn shadow_rays_among_their_hull_leaves_match_brute_force() {
+    let mut rng = Pcg64::seed_from_u64(41);
+    let (mut found, mut blocked, mut free) = (0, 0, 0);
+    for n in 0..60 {
+        let objects = all_kinds_scene(&mut rng, 1 + n / 3, n % 3);
+        let (f, b, r) = check_shadow_leaves(&objects, 80, 300 + n as u64);
+        found += f;
+        blocked += b;
+        free += r;
+    }
+    // Larger scenes, where few hulls stay under the leaf limit.
+    let objects = all_kinds_scene(&mut rng, 120, 1);
+    let (f, b, r) = check_shadow_leaves(&objects, 600, 42);
+    assert!(
+        f > 20,
+        "only {f} points of the large scene had their leaves found"
+    );
+    found += f;
+    blocked += b;
+    free += r;
+    // The leaves were found often, and rays of both answers were checked.
+    assert!(found > 1500, "leaves found for {found} points");
+    assert!(
+        blocked > 2000 && free > 2000,
+        "{blocked} blocked, {free} free"
+    );
+}

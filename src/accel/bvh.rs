@@ -3,6 +3,7 @@
 //! the root or up from a primitive's leaf.
 
 use crate::geometry::{Aabb, Ray};
+use glam::DVec3;
 use std::cell::RefCell;
 
 /// Bins per axis for the surface area heuristic.
@@ -347,6 +348,100 @@ impl Bvh {
                 }
             }
         }
+    }
+}
+
+impl Bvh {
+    /// The ids of the leaves whose boxes meet `hull`, leaving out those
+    /// whose primitives `skip` accepts, into `out`: their number, or `None`
+    /// when there are more than `out` holds.
+    pub(crate) fn leaves_meeting(
+        &self,
+        hull: &Hull,
+        out: &mut [u32],
+        skip: impl Fn(&[u32]) -> bool,
+    ) -> Option<usize> {
+        let mut len = 0;
+        if self.pairs.is_empty() {
+            return Some(0);
+        }
+        let mut stack = [0u32; STACK_SIZE];
+        let mut sp = 1;
+        while sp > 0 {
+            sp -= 1;
+            let id = stack[sp & (STACK_SIZE - 1)];
+            let node = self.node(id);
+            if !hull.meets(&node.bounds) {
+                continue;
+            }
+            let s = node.start as usize;
+            if node.count == 0 {
+                // Both children pending: one push per level at most plus
+                // one, within STACK_SIZE (see `walk`).
+                stack[sp & (STACK_SIZE - 1)] = node.start;
+                stack[(sp + 1) & (STACK_SIZE - 1)] = node.start + 1;
+                sp += 2;
+            } else if !skip(&self.prims[s..s + node.count as usize]) {
+                *out.get_mut(len)? = id;
+                len += 1;
+            }
+        }
+        Some(len)
+    }
+}
+
+/// Every segment from a point to a point of a box (their convex hull),
+/// grown by a margin far above the rounding of a ray's arithmetic: a ray
+/// from the point that ends in the box enters only boxes that meet it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Hull {
+    origin: [f64; 3],
+    /// The box's corners relative to the origin, grown by `pad`.
+    lo: [f64; 3],
+    hi: [f64; 3],
+    pad: f64,
+}
+
+impl Hull {
+    /// The hull of `origin` and the box [`min`, `max`].
+    pub(crate) fn new(origin: DVec3, min: DVec3, max: DVec3) -> Hull {
+        let scale = origin.abs().max(min.abs()).max(max.abs()).max_element();
+        let pad = 1e-6 * (1.0 + scale);
+        Hull {
+            origin: origin.to_array(),
+            lo: (min - origin - pad).to_array(),
+            hi: (max - origin + pad).to_array(),
+            pad,
+        }
+    }
+
+    /// Whether box `b`, grown by the margin, meets the hull: whether some
+    /// s in [0, 1] puts the box s·(box − origin), on every axis, across b.
+    #[inline]
+    pub(crate) fn meets(&self, b: &[f32; 6]) -> bool {
+        let (mut s0, mut s1) = (0.0f64, 1.0f64);
+        for a in 0..3 {
+            let bmin = b[a] as f64 - self.pad - self.origin[a];
+            let bmax = b[a + 3] as f64 + self.pad - self.origin[a];
+            let (lo, hi) = (self.lo[a], self.hi[a]);
+            // s·lo <= bmax: the near side of the scaled box not past b's max.
+            if lo > 0.0 {
+                s1 = s1.min(bmax / lo);
+            } else if lo < 0.0 {
+                s0 = s0.max(bmax / lo);
+            } else if bmax < 0.0 {
+                return false;
+            }
+            // s·hi >= bmin: its far side not short of b's min.
+            if hi > 0.0 {
+                s0 = s0.max(bmin / hi);
+            } else if hi < 0.0 {
+                s1 = s1.min(bmin / hi);
+            } else if bmin > 0.0 {
+                return false;
+            }
+        }
+        s0 <= s1
     }
 }
 
@@ -785,10 +880,108 @@ fn split(items: &mut [Item], ext: &Extents, depth: usize) -> Option<(usize, Exte
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::DVec3;
+    use rand::{Rng, SeedableRng};
 
     fn unit_box() -> [f32; 6] {
         [0.0, 0.0, 0.0, 1.0, 1.0, 1.0]
+    }
+
+    /// A box in f32, rounded outward, around `c` with half sizes `h`.
+    fn f32_box(c: DVec3, h: DVec3) -> [f32; 6] {
+        let (lo, hi) = (c - h, c + h);
+        [
+            f32_down(lo.x),
+            f32_down(lo.y),
+            f32_down(lo.z),
+            f32_up(hi.x),
+            f32_up(hi.y),
+            f32_up(hi.z),
+        ]
+    }
+
+    #[test]
+    fn hull_meets_every_box_a_ray_into_its_box_enters() {
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(31);
+        fn v(rng: &mut rand_pcg::Pcg64, s: f64) -> DVec3 {
+            DVec3::new(
+                rng.random_range(-s..s),
+                rng.random_range(-s..s),
+                rng.random_range(-s..s),
+            )
+        }
+        let (mut culled, mut kept) = (0, 0);
+        for k in 0..2000 {
+            let scale = [1.0, 1.0 / 1024.0, 1024.0][k % 3];
+            // Light boxes: solid, flat on an axis (a square light along the
+            // axes, on a plane f32 holds exactly), or a single point.
+            let mut centre = v(&mut rng, 5.0 * scale);
+            let mut half = v(&mut rng, scale).abs();
+            let flat = k / 4 % 3;
+            match k % 4 {
+                0 => {
+                    half[flat] = 0.0;
+                    centre[flat] = (centre[flat] / scale).round() * scale;
+                }
+                1 => half = DVec3::ZERO,
+                _ => {}
+            }
+            // Origins far off, nearby, on the box's face planes, or inside it.
+            let origin = match k % 5 {
+                0 => centre + half * DVec3::new(1.0, -1.0, 1.0),
+                1 => centre + v(&mut rng, 0.5 * scale) * half.signum().abs(),
+                2 => centre + v(&mut rng, scale),
+                _ => centre + v(&mut rng, 20.0 * scale),
+            };
+            let hull = Hull::new(origin, centre - half, centre + half);
+            for _ in 0..20 {
+                // A sample point of the light: inside, on a corner or an edge.
+                let mut u = v(&mut rng, 1.0);
+                for a in 0..3 {
+                    if rng.random_bool(0.3) {
+                        u[a] = u[a].signum();
+                    }
+                }
+                let q = centre + half * u;
+                let to = q - origin;
+                let dist = to.length();
+                if dist == 0.0 {
+                    continue;
+                }
+                let rb = RayBox::new(&Ray::new(origin, to * (1.0 / dist)));
+                // Boxes around points of the segment (touching it, beside
+                // it, containing the origin or q), and anywhere.
+                for _ in 0..10 {
+                    let at = match rng.random_range(0..4) {
+                        0 => origin + to * rng.random_range(-0.2..1.2),
+                        1 => origin,
+                        2 => q,
+                        _ => centre + v(&mut rng, 10.0 * scale),
+                    };
+                    let size = [1e-6, 1e-2, 0.3][rng.random_range(0..3)] * scale;
+                    let h = v(&mut rng, size).abs();
+                    let mut b = f32_box(at + v(&mut rng, scale) * h, h);
+                    if k % 4 == 0 && rng.random_bool(0.3) {
+                        // Beyond a flat light, touching its plane: rays reach
+                        // it at their very end.
+                        let (a, side) = (flat, (q[flat] - origin[flat]).signum());
+                        let (near, far) = if side > 0.0 { (a, a + 3) } else { (a + 3, a) };
+                        b[near] = centre[a] as f32;
+                        b[far] = (centre[a] + side * size) as f32;
+                    }
+                    if rb.entry(&b, dist) != MISS {
+                        assert!(hull.meets(&b), "{origin} -> {q}: {b:?}");
+                        kept += 1;
+                    } else if !hull.meets(&b) {
+                        culled += 1;
+                    }
+                }
+            }
+        }
+        // Both outcomes occur often: the test has teeth.
+        assert!(
+            culled > 20_000 && kept > 20_000,
+            "{culled} culled, {kept} kept"
+        );
     }
 
     #[test]

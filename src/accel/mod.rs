@@ -13,8 +13,20 @@ mod packet;
 
 use crate::geometry::{Hit, Ray};
 use crate::scene::Object;
-use bvh::{Bvh, Item};
+use bvh::{Bvh, Hull, Item, MISS, RayBox};
+use glam::DVec3;
 pub use packet::PACKET_MAX;
+
+/// Leaves of the tree [`Accel::shadow_leaves`] holds at most: beyond, a
+/// walk per ray costs less than testing each of them.
+const SHADOW_LEAVES: usize = 8;
+
+/// The leaves a point's shadow rays towards one area light may enter.
+#[derive(Clone, Copy, Debug)]
+pub struct ShadowLeaves {
+    ids: [u32; SHADOW_LEAVES],
+    len: usize,
+}
 
 /// Answers ray queries over a list of objects.
 pub struct Accel<'a> {
@@ -123,6 +135,71 @@ impl<'a> Accel<'a> {
             blocker.is_some()
         };
         self.bvh.traverse(from, ray, &mut t_best, leaf);
+        if blocker.is_some() {
+            *hint = blocker;
+        }
+        blocker.is_some()
+    }
+
+    /// The leaves that the shadow rays from `origin` to points of the box
+    /// [`min`, `max`] (an area light's) may enter, found once for all of
+    /// them; leaves holding only light `ignore_light`'s own surface are left
+    /// out. `None` when there are more than [`ShadowLeaves`] holds.
+    pub fn shadow_leaves(
+        &self,
+        origin: DVec3,
+        min: DVec3,
+        max: DVec3,
+        ignore_light: Option<u32>,
+    ) -> Option<ShadowLeaves> {
+        let mut ids = [0; SHADOW_LEAVES];
+        let own = |prims: &[u32]| {
+            ignore_light.is_some()
+                && prims
+                    .iter()
+                    .all(|&i| self.objects[i as usize].light() == ignore_light)
+        };
+        let len = self
+            .bvh
+            .leaves_meeting(&Hull::new(origin, min, max), &mut ids, own)?;
+        Some(ShadowLeaves { ids, len })
+    }
+
+    /// [`Accel::occluded_hinted`] for a ray from the origin given to
+    /// [`Accel::shadow_leaves`] that ends (at `t_max`) in its box, testing
+    /// only `leaves`: the same answer, the tree's other leaves being out of
+    /// the ray's reach.
+    pub fn occluded_among(
+        &self,
+        ray: &Ray,
+        t_max: f64,
+        ignore_light: Option<u32>,
+        leaves: &ShadowLeaves,
+        hint: &mut Option<u32>,
+    ) -> bool {
+        let blocks = |i: u32| self.blocks(i, ray, t_max, ignore_light);
+        if hint.is_some_and(blocks) {
+            return true;
+        }
+        let rb = RayBox::new(ray);
+        let blocker = self
+            .unbounded
+            .iter()
+            .copied()
+            .find(|&i| blocks(i))
+            .or_else(|| {
+                leaves.ids[..leaves.len].iter().find_map(|&id| {
+                    let node = self.bvh.node(id);
+                    if rb.entry(&node.bounds, t_max) == MISS {
+                        return None;
+                    }
+                    let s = node.start as usize;
+                    self.bvh.prims[s..s + node.count as usize]
+                        .iter()
+                        .copied()
+                        .find(|&i| blocks(i))
+                })
+            });
         if blocker.is_some() {
             *hint = blocker;
         }

@@ -10,11 +10,23 @@ use std::f64::consts::TAU;
 /// Slots of [`ShadowHints`].
 const HINT_SLOTS: usize = 8;
 
-/// Per light (slot: its index modulo 8), the object that last
-/// blocked a shadow ray towards it, tried first by the next one: shadow rays
-/// from nearby points mostly meet the same blocker. A stale guess, or a slot
-/// shared by two lights, costs one test; the answers never depend on it.
-pub type ShadowHints = [Option<u32>; HINT_SLOTS];
+/// What a worker's shadow rays learned, per light (slot: its index modulo
+/// 8), for the next ones: the object that last blocked a ray towards it,
+/// tried first (shadow rays from nearby points mostly meet the same
+/// blocker), and how many points to go before looking for an area light's
+/// few leaves again, after a search found too many. A stale guess, or a slot
+/// shared by two lights, costs time only; the answers never depend on it.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ShadowHints {
+    blocker: [Option<u32>; HINT_SLOTS],
+    skip: [u8; HINT_SLOTS],
+    /// Searches that found too many leaves, in a row.
+    misses: [u8; HINT_SLOTS],
+}
+
+/// After n searches in a row find too many leaves, the next 2^n − 1 points
+/// (up to 2^6 − 1) walk the tree without searching.
+const MAX_BACKOFF: u8 = 6;
 
 /// Where shadow rays start.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -46,7 +58,36 @@ pub fn shade_factor(
     let start = Ray::off_surface(origin, DVec3::ZERO);
     let towards = |dir: DVec3| Ray { dir, ..start };
     let leaving = from.object;
-    let blocker = &mut hints[index as usize % HINT_SLOTS];
+    let slot = index as usize % HINT_SLOTS;
+    // An area light's rays all run from `origin` into its box: the tree's
+    // leaves they may enter are found once, when there are few (a search
+    // that finds too many is wasted: after one, the next points skip it).
+    let bounds = match light.kind {
+        LightKind::Point { .. } => None,
+        _ if samples < 2 => None,
+        LightKind::Square { center, dx, dy } => Some((center, dx.abs() + dy.abs())),
+        LightKind::Sphere { center, radius } => Some((center, DVec3::splat(radius))),
+    };
+    let leaves = bounds.and_then(|(c, half)| {
+        if hints.skip[slot] > 0 {
+            hints.skip[slot] -= 1;
+            return None;
+        }
+        let found = accel.shadow_leaves(origin, c - half, c + half, Some(index));
+        let misses = &mut hints.misses[slot];
+        *misses = if found.is_some() {
+            0
+        } else {
+            (*misses + 1).min(MAX_BACKOFF)
+        };
+        hints.skip[slot] = (1u8 << *misses) - 1;
+        found
+    });
+    let blocker = &mut hints.blocker[slot];
+    let mut occluded = |ray: &Ray, t_max: f64| match &leaves {
+        Some(l) => accel.occluded_among(ray, t_max, Some(index), l, blocker),
+        None => accel.occluded_hinted(ray, t_max, Some(index), leaving, blocker),
+    };
     match light.kind {
         LightKind::Point { pos } => {
             let to = pos - origin;
@@ -65,15 +106,7 @@ pub fn shade_factor(
                     let b = (r as f64 + rng.random::<f64>()) * cell_b - 1.0;
                     let to = center + dx * a + dy * b - origin;
                     let dist = to.length();
-                    if dist > 0.0
-                        && !accel.occluded_hinted(
-                            &towards(to * (1.0 / dist)),
-                            dist,
-                            Some(index),
-                            leaving,
-                            blocker,
-                        )
-                    {
+                    if dist > 0.0 && !occluded(&towards(to * (1.0 / dist)), dist) {
                         lit += 1;
                     }
                 }
@@ -107,7 +140,7 @@ pub fn shade_factor(
                     let ray = towards(dir);
                     // Up to the light's surface (the tangent distance for rounding at the rim).
                     let t_light = sphere.roots(&ray).map_or(tangent, |(t0, _)| t0);
-                    if !accel.occluded_hinted(&ray, t_light, Some(index), leaving, blocker) {
+                    if !occluded(&ray, t_light) {
                         lit += 1;
                     }
                 }
