@@ -349,9 +349,7 @@ impl Bvh {
             }
         }
     }
-}
 
-impl Bvh {
     /// The ids of the leaves whose boxes meet `hull`, leaving out those
     /// whose primitives `skip` accepts, into `out`: their number, or `None`
     /// when there are more than `out` holds.
@@ -925,7 +923,8 @@ mod tests {
                 1 => half = DVec3::ZERO,
                 _ => {}
             }
-            // Origins far off, nearby, on the box's face planes, or inside it.
+            // Origins at a corner of the box, inside it (on its plane when
+            // it is flat), nearby, or far off.
             let origin = match k % 5 {
                 0 => centre + half * DVec3::new(1.0, -1.0, 1.0),
                 1 => centre + v(&mut rng, 0.5 * scale) * half.signum().abs(),

@@ -5,8 +5,10 @@
 //! (planes), and any whose bounds are not finite or beyond 1e30, are tested
 //! one by one. Queries come one ray at a time, as packets of coherent rays
 //! (a tile's camera rays), or, for a ray leaving a surface, as a walk up
-//! the tree from that surface's leaf. Answers are exactly those of testing
-//! every object in index order: same object, same hit.
+//! the tree from that surface's leaf; the shadow rays of one point towards
+//! an area light test only the few leaves within their reach, found once.
+//! Answers are exactly those of testing every object in index order: same
+//! object, same hit.
 
 mod bvh;
 mod packet;
