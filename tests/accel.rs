@@ -924,14 +924,14 @@ fn astronomic_and_nan_objects_are_tested_too() {
 
 /// Checks the shadow rays of random surface points towards random boxes
 /// (area lights' extents, or objects' boxes taken as lights): each ray's
-/// answer among the leaves [`Accel::shadow_leaves`] finds is brute force's.
-/// Returns how many points had their leaves found, and how many rays of
-/// those were blocked and free.
-fn check_shadow_leaves(objects: &[Object], points: usize, seed: u64) -> (usize, usize, usize) {
+/// answer within the subtrees [`Accel::shadow_reach`] finds is brute
+/// force's. Returns how many points were checked, and how many rays were
+/// blocked and free.
+fn check_shadow_reach(objects: &[Object], points: usize, seed: u64) -> (usize, usize, usize) {
     let accel = Accel::build(objects);
     let lit: Vec<&Object> = objects.iter().filter(|o| o.light().is_some()).collect();
     let mut rng = Pcg64::seed_from_u64(seed);
-    let (mut found, mut blocked, mut free) = (0, 0, 0);
+    let (mut checked, mut blocked, mut free) = (0, 0, 0);
     let mut hint = None;
     for n in 0..points {
         let ray = random_ray(&mut rng, objects, 12.0);
@@ -965,10 +965,8 @@ fn check_shadow_leaves(objects: &[Object], points: usize, seed: u64) -> (usize, 
                 (c - half, c + half, None)
             }
         };
-        let Some(leaves) = accel.shadow_leaves(origin, min, max, ignore) else {
-            continue;
-        };
-        found += 1;
+        let reach = accel.shadow_reach(origin, min, max, ignore);
+        checked += 1;
         for _ in 0..16 {
             let u = DVec3::new(rng.random(), rng.random(), rng.random());
             let q = min + (max - min) * u;
@@ -981,7 +979,7 @@ fn check_shadow_leaves(objects: &[Object], points: usize, seed: u64) -> (usize, 
             let want = objects
                 .iter()
                 .any(|o| blocks(o, &shadow, shadow.t_min, dist, ignore));
-            let got = accel.occluded_among(&shadow, dist, ignore, &leaves, &mut hint);
+            let got = accel.occluded_within(&shadow, dist, ignore, &reach, &mut hint);
             assert_eq!(
                 got, want,
                 "point {n}: {shadow:?} to {q}, ignoring {ignore:?}"
@@ -993,32 +991,29 @@ fn check_shadow_leaves(objects: &[Object], points: usize, seed: u64) -> (usize, 
             }
         }
     }
-    (found, blocked, free)
+    (checked, blocked, free)
 }
 
 #[test]
-fn shadow_rays_among_their_hull_leaves_match_brute_force() {
+fn shadow_rays_within_their_hull_match_brute_force() {
     let mut rng = Pcg64::seed_from_u64(41);
-    let (mut found, mut blocked, mut free) = (0, 0, 0);
+    let (mut points, mut blocked, mut free) = (0, 0, 0);
     for n in 0..60 {
         let objects = all_kinds_scene(&mut rng, 1 + n / 3, n % 3);
-        let (f, b, r) = check_shadow_leaves(&objects, 80, 300 + n as u64);
-        found += f;
+        let (p, b, f) = check_shadow_reach(&objects, 80, 300 + n as u64);
+        points += p;
         blocked += b;
-        free += r;
+        free += f;
     }
-    // Larger scenes, where few hulls stay under the leaf limit.
+    // A larger scene, whose hulls meet more subtrees than are kept.
     let objects = all_kinds_scene(&mut rng, 120, 1);
-    let (f, b, r) = check_shadow_leaves(&objects, 600, 42);
-    assert!(
-        f > 20,
-        "only {f} points of the large scene had their leaves found"
-    );
-    found += f;
+    let (p, b, f) = check_shadow_reach(&objects, 600, 42);
+    assert!(b > 500 && f > 500, "large scene: {b} blocked, {f} free");
+    points += p;
     blocked += b;
-    free += r;
-    // The leaves were found often, and rays of both answers were checked.
-    assert!(found > 1500, "leaves found for {found} points");
+    free += f;
+    // Rays of both answers were checked, from many points.
+    assert!(points > 2500, "{points} points");
     assert!(
         blocked > 2000 && free > 2000,
         "{blocked} blocked, {free} free"

@@ -350,41 +350,84 @@ impl Bvh {
         }
     }
 
-    /// The ids of the leaves whose boxes meet `hull`, leaving out those
-    /// whose primitives `skip` accepts, into `out`: their number, or `None`
-    /// when there are more than `out` holds.
-    pub(crate) fn leaves_meeting(
+    /// Up to `out.len()` subtrees (node ids) that together hold every leaf
+    /// whose box meets `hull`, each meeting it, leaves whose primitives
+    /// `skip` accepts left out: the tree is searched breadth first, a node
+    /// giving way to those of its children that meet the hull while they
+    /// fit. Returns their number.
+    pub(crate) fn reach(
         &self,
         hull: &Hull,
         out: &mut [u32],
         skip: impl Fn(&[u32]) -> bool,
-    ) -> Option<usize> {
-        let mut len = 0;
-        if self.pairs.is_empty() {
-            return Some(0);
+    ) -> usize {
+        let Some(Pair([root, _])) = self.pairs.first() else {
+            return 0;
+        };
+        let room = out.len().min(STACK_SIZE);
+        if room == 0 || !hull.meets(&root.bounds) {
+            return 0;
         }
-        let mut stack = [0u32; STACK_SIZE];
-        let mut sp = 1;
-        while sp > 0 {
-            sp -= 1;
-            let id = stack[sp & (STACK_SIZE - 1)];
+        // Pending nodes, first in first out; the pending and the found
+        // together never exceed the room.
+        let mut queue = [0u32; STACK_SIZE];
+        let (mut head, mut tail, mut len) = (0, 1, 0);
+        while head < tail {
+            let id = queue[head & (STACK_SIZE - 1)];
+            head += 1;
             let node = self.node(id);
-            if !hull.meets(&node.bounds) {
+            let s = node.start as usize;
+            if node.count > 0 {
+                if !skip(&self.prims[s..s + node.count as usize]) {
+                    out[len] = id;
+                    len += 1;
+                }
                 continue;
             }
-            let s = node.start as usize;
-            if node.count == 0 {
-                // Both children pending: one push per level at most plus
-                // one, within STACK_SIZE (see `walk`).
-                stack[sp & (STACK_SIZE - 1)] = node.start;
-                stack[(sp + 1) & (STACK_SIZE - 1)] = node.start + 1;
-                sp += 2;
-            } else if !skip(&self.prims[s..s + node.count as usize]) {
-                *out.get_mut(len)? = id;
+            let pair = &self.pairs[s >> 1].0;
+            let meets = [hull.meets(&pair[0].bounds), hull.meets(&pair[1].bounds)];
+            let kids = meets.iter().filter(|&&m| m).count();
+            if len + (tail - head) + kids <= room {
+                for (k, _) in meets.iter().enumerate().filter(|(_, m)| **m) {
+                    queue[tail & (STACK_SIZE - 1)] = node.start + k as u32;
+                    tail += 1;
+                }
+            } else {
+                out[len] = id;
                 len += 1;
             }
         }
-        Some(len)
+        len
+    }
+
+    /// [`Bvh::traverse`] over the subtrees `roots` alone, in that order.
+    #[inline]
+    pub(crate) fn traverse_within(
+        &self,
+        roots: &[u32],
+        ray: &Ray,
+        t_best: &mut f64,
+        mut leaf: impl FnMut(&[u32], &mut f64) -> bool,
+    ) {
+        let rb = RayBox::new(ray);
+        for &id in roots {
+            let node = self.node(id);
+            if rb.entry(&node.bounds, *t_best) == MISS {
+                continue;
+            }
+            // A leaf needs no stack.
+            let s = node.start as usize;
+            let stop = if node.count > 0 {
+                leaf(&self.prims[s..s + node.count as usize], t_best)
+            } else {
+                let mut stop = false;
+                with_stack(|stack| stop = self.walk(&rb, node, t_best, stack, &mut leaf));
+                stop
+            };
+            if stop {
+                return;
+            }
+        }
     }
 }
 

@@ -15,19 +15,27 @@ mod packet;
 
 use crate::geometry::{Hit, Ray};
 use crate::scene::Object;
-use bvh::{Bvh, Hull, Item, MISS, RayBox};
+use bvh::{Bvh, Hull, Item};
 use glam::DVec3;
 pub use packet::PACKET_MAX;
 
-/// Leaves of the tree [`Accel::shadow_leaves`] holds at most: beyond, a
-/// walk per ray costs less than testing each of them.
-const SHADOW_LEAVES: usize = 8;
+/// Subtrees [`Accel::shadow_reach`] keeps at most.
+const REACH: usize = 16;
 
-/// The leaves a point's shadow rays towards one area light may enter.
+/// The parts of the tree a point's shadow rays towards one area light may
+/// enter.
 #[derive(Clone, Copy, Debug)]
-pub struct ShadowLeaves {
-    ids: [u32; SHADOW_LEAVES],
+pub struct ShadowReach {
+    roots: [u32; REACH],
     len: usize,
+}
+
+/// Which part of the tree an any-hit query walks.
+enum Walk<'r> {
+    /// All of it, up from the leaf of this object when it is known.
+    Up(Option<u32>),
+    /// These subtrees alone.
+    Within(&'r [u32]),
 }
 
 /// Answers ray queries over a list of objects.
@@ -122,6 +130,62 @@ impl<'a> Accel<'a> {
         from: Option<u32>,
         hint: &mut Option<u32>,
     ) -> bool {
+        self.any_hit(ray, t_max, ignore_light, Walk::Up(from), hint)
+    }
+
+    /// The subtrees that the shadow rays from `origin` to points of the box
+    /// [`min`, `max`] (an area light's) may enter, found once for all of
+    /// them: those that meet the hull of the two, as small as
+    /// [`ShadowReach`] has room for (leaves holding only light
+    /// `ignore_light`'s own surface left out).
+    pub fn shadow_reach(
+        &self,
+        origin: DVec3,
+        min: DVec3,
+        max: DVec3,
+        ignore_light: Option<u32>,
+    ) -> ShadowReach {
+        let mut roots = [0; REACH];
+        let own = |prims: &[u32]| {
+            ignore_light.is_some()
+                && prims
+                    .iter()
+                    .all(|&i| self.objects[i as usize].light() == ignore_light)
+        };
+        let len = self
+            .bvh
+            .reach(&Hull::new(origin, min, max), &mut roots, own);
+        ShadowReach { roots, len }
+    }
+
+    /// [`Accel::occluded_hinted`] for a ray from the origin given to
+    /// [`Accel::shadow_reach`] that ends (at `t_max`) in its box, walking
+    /// only the subtrees of `reach`: the same answer, the rest of the tree
+    /// being out of the ray's reach.
+    pub fn occluded_within(
+        &self,
+        ray: &Ray,
+        t_max: f64,
+        ignore_light: Option<u32>,
+        reach: &ShadowReach,
+        hint: &mut Option<u32>,
+    ) -> bool {
+        let roots = &reach.roots[..reach.len];
+        self.any_hit(ray, t_max, ignore_light, Walk::Within(roots), hint)
+    }
+
+    /// The any-hit query of [`Accel::occluded_hinted`] and
+    /// [`Accel::occluded_within`]: the hint, the unbounded objects, then
+    /// the tree as `walk` says.
+    #[inline(always)]
+    fn any_hit(
+        &self,
+        ray: &Ray,
+        t_max: f64,
+        ignore_light: Option<u32>,
+        walk: Walk,
+        hint: &mut Option<u32>,
+    ) -> bool {
         let blocks = |i: u32| self.blocks(i, ray, t_max, ignore_light);
         if hint.is_some_and(blocks) {
             return true;
@@ -136,72 +200,10 @@ impl<'a> Accel<'a> {
             blocker = prims.iter().copied().find(|&i| blocks(i));
             blocker.is_some()
         };
-        self.bvh.traverse(from, ray, &mut t_best, leaf);
-        if blocker.is_some() {
-            *hint = blocker;
+        match walk {
+            Walk::Up(from) => self.bvh.traverse(from, ray, &mut t_best, leaf),
+            Walk::Within(roots) => self.bvh.traverse_within(roots, ray, &mut t_best, leaf),
         }
-        blocker.is_some()
-    }
-
-    /// The leaves that the shadow rays from `origin` to points of the box
-    /// [`min`, `max`] (an area light's) may enter, found once for all of
-    /// them; leaves holding only light `ignore_light`'s own surface are left
-    /// out. `None` when there are more than [`ShadowLeaves`] holds.
-    pub fn shadow_leaves(
-        &self,
-        origin: DVec3,
-        min: DVec3,
-        max: DVec3,
-        ignore_light: Option<u32>,
-    ) -> Option<ShadowLeaves> {
-        let mut ids = [0; SHADOW_LEAVES];
-        let own = |prims: &[u32]| {
-            ignore_light.is_some()
-                && prims
-                    .iter()
-                    .all(|&i| self.objects[i as usize].light() == ignore_light)
-        };
-        let len = self
-            .bvh
-            .leaves_meeting(&Hull::new(origin, min, max), &mut ids, own)?;
-        Some(ShadowLeaves { ids, len })
-    }
-
-    /// [`Accel::occluded_hinted`] for a ray from the origin given to
-    /// [`Accel::shadow_leaves`] that ends (at `t_max`) in its box, testing
-    /// only `leaves`: the same answer, the tree's other leaves being out of
-    /// the ray's reach.
-    pub fn occluded_among(
-        &self,
-        ray: &Ray,
-        t_max: f64,
-        ignore_light: Option<u32>,
-        leaves: &ShadowLeaves,
-        hint: &mut Option<u32>,
-    ) -> bool {
-        let blocks = |i: u32| self.blocks(i, ray, t_max, ignore_light);
-        if hint.is_some_and(blocks) {
-            return true;
-        }
-        let rb = RayBox::new(ray);
-        let blocker = self
-            .unbounded
-            .iter()
-            .copied()
-            .find(|&i| blocks(i))
-            .or_else(|| {
-                leaves.ids[..leaves.len].iter().find_map(|&id| {
-                    let node = self.bvh.node(id);
-                    if rb.entry(&node.bounds, t_max) == MISS {
-                        return None;
-                    }
-                    let s = node.start as usize;
-                    self.bvh.prims[s..s + node.count as usize]
-                        .iter()
-                        .copied()
-                        .find(|&i| blocks(i))
-                })
-            });
         if blocker.is_some() {
             *hint = blocker;
         }

@@ -10,23 +10,11 @@ use std::f64::consts::TAU;
 /// Slots of [`ShadowHints`].
 const HINT_SLOTS: usize = 8;
 
-/// What a worker's shadow rays learned, per light (slot: its index modulo
-/// 8), for the next ones: the object that last blocked a ray towards it,
-/// tried first (shadow rays from nearby points mostly meet the same
-/// blocker), and how many points to go before looking for an area light's
-/// few leaves again, after a search found too many. A stale guess, or a slot
-/// shared by two lights, costs time only; the answers never depend on it.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct ShadowHints {
-    blocker: [Option<u32>; HINT_SLOTS],
-    skip: [u8; HINT_SLOTS],
-    /// Searches that found too many leaves, in a row.
-    misses: [u8; HINT_SLOTS],
-}
-
-/// After n searches in a row find too many leaves, the next 2^n − 1 points
-/// (up to 2^6 − 1) walk the tree without searching.
-const MAX_BACKOFF: u8 = 6;
+/// Per light (slot: its index modulo 8), the object that last
+/// blocked a shadow ray towards it, tried first by the next one: shadow rays
+/// from nearby points mostly meet the same blocker. A stale guess, or a slot
+/// shared by two lights, costs one test; the answers never depend on it.
+pub type ShadowHints = [Option<u32>; HINT_SLOTS];
 
 /// Where shadow rays start.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -58,34 +46,22 @@ pub fn shade_factor(
     let start = Ray::off_surface(origin, DVec3::ZERO);
     let towards = |dir: DVec3| Ray { dir, ..start };
     let leaving = from.object;
-    let slot = index as usize % HINT_SLOTS;
-    // An area light's rays all run from `origin` into its box: the tree's
-    // leaves they may enter are found once, when there are few (a search
-    // that finds too many is wasted: after one, the next points skip it).
-    let bounds = match light.kind {
+    let blocker = &mut hints[index as usize % HINT_SLOTS];
+    // An area light's rays all run from `origin` into its box: the parts of
+    // the tree they may enter are found once.
+    let reach = match light.kind {
         LightKind::Point { .. } => None,
         _ if samples < 2 => None,
-        LightKind::Square { center, dx, dy } => Some((center, dx.abs() + dy.abs())),
-        LightKind::Sphere { center, radius } => Some((center, DVec3::splat(radius))),
-    };
-    let leaves = bounds.and_then(|(c, half)| {
-        if hints.skip[slot] > 0 {
-            hints.skip[slot] -= 1;
-            return None;
+        LightKind::Square { center, dx, dy } => {
+            let half = dx.abs() + dy.abs();
+            Some(accel.shadow_reach(origin, center - half, center + half, Some(index)))
         }
-        let found = accel.shadow_leaves(origin, c - half, c + half, Some(index));
-        let misses = &mut hints.misses[slot];
-        *misses = if found.is_some() {
-            0
-        } else {
-            (*misses + 1).min(MAX_BACKOFF)
-        };
-        hints.skip[slot] = (1u8 << *misses) - 1;
-        found
-    });
-    let blocker = &mut hints.blocker[slot];
-    let mut occluded = |ray: &Ray, t_max: f64| match &leaves {
-        Some(l) => accel.occluded_among(ray, t_max, Some(index), l, blocker),
+        LightKind::Sphere { center, radius } => {
+            Some(accel.shadow_reach(origin, center - radius, center + radius, Some(index)))
+        }
+    };
+    let mut occluded = |ray: &Ray, t_max: f64| match &reach {
+        Some(r) => accel.occluded_within(ray, t_max, Some(index), r, blocker),
         None => accel.occluded_hinted(ray, t_max, Some(index), leaving, blocker),
     };
     match light.kind {
