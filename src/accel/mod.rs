@@ -6,7 +6,7 @@
 //! one by one. Queries come one ray at a time, as packets of coherent rays
 //! (a tile's camera rays), or, for a ray leaving a surface, as a walk up
 //! the tree from that surface's leaf; the shadow rays of one point towards
-//! an area light test only the few leaves within their reach, found once.
+//! an area light walk only the subtrees within their reach, found once.
 //! Answers are exactly those of testing every object in index order: same
 //! object, same hit.
 
