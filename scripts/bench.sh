@@ -114,6 +114,17 @@ run() {
   printf '| %-22s | %-9s | %7s | %8s | %6s | %7s | %8s | %7s | %8.0f |\n' "$name" "$size" "$wall" "$render" "$bvh" "$trace" "$rays" "$mrays" "$((kib / 1024))"
 }
 
+# pov_render DIR FILE WIDTH HEIGHT: POV-Ray renders DIR/FILE in DIR, no
+# anti-aliasing, two threads; its wall time into $work/t, its statistics
+# into $work/plog; fails, showing them, when POV-Ray does.
+pov_render() {
+  (cd "$1" && /usr/bin/time -f '%e' -o "$work/t" povray +W"$3" +H"$4" -A -D +WT2 File_Gamma=1.0 \
+    +O"$work/p.png" "$2" > /dev/null 2> "$work/plog") || {
+    cat "$work/plog" >&2
+    return 1
+  }
+}
+
 # median X...: the middle value (the lower one of an even count).
 median() {
   printf '%s\n' "$@" | sort -n | awk '{a[NR] = $1} END {print a[int((NR + 1) / 2)]}'
@@ -140,8 +151,7 @@ if [[ ${1:-} == --povray ]]; then
       glint_render "$scene" --spp 1 || return 1
       g+=("$(cut -d' ' -f1 "$work/time")")
       grays=$(field "$RAYS_RE") || return 1
-      (cd "$pov" && /usr/bin/time -f '%e' -o "$work/t" povray +W"$w" +H"$h" -A -D +WT2 File_Gamma=1.0 \
-        +O"$work/p.png" "$povfile" > /dev/null 2> "$work/plog")
+      pov_render "$pov" "$povfile" "$w" "$h" || return 1
       p+=("$(cat "$work/t")")
     done
     local gm pm prays
@@ -166,6 +176,20 @@ trace() {
   tracing
 }
 
+# ratio_row LABEL MEASURE: MEASURE 100 and MEASURE 1000000 (each printing
+# a time) alternately, $rounds rounds; a table row of the best of each and
+# their ratio.
+ratio_row() {
+  local label=$1 measure=$2 small=1e9 big=1e9 t k
+  for ((k = 0; k < rounds; k++)); do
+    t=$("$measure" 100)
+    small=$(least "$small" "$t")
+    t=$("$measure" 1000000)
+    big=$(least "$big" "$t")
+  done
+  printf '| %3s | %11.3f | %17.3f | %5.2fx |\n' "$label" "$small" "$big" "$(awk -v a="$big" -v b="$small" 'BEGIN {print a / b}')"
+}
+
 if [[ ${1:-} == --spheres ]]; then
   rounds=${2:-5}
   [[ $rounds =~ ^[1-9][0-9]*$ ]] || { echo "--spheres takes a number of rounds, 1 or more" >&2; exit 2; }
@@ -173,39 +197,24 @@ if [[ ${1:-} == --spheres ]]; then
   echo "100 and 1 000 000 spheres, alternately, $rounds rounds, best tracing seconds (render - BVH), 2 threads:"
   printf '| %3s | %11s | %17s | %6s |\n' spp "100 spheres" "1 000 000 spheres" ratio
   printf '|%s|%s|%s|%s|\n' ----- ------------- ------------------- --------
+  # glint_trace N: the tracing time of spheres_N at $spp samples per pixel.
+  glint_trace() { trace "$work/spheres_$1.txt" "$spp"; }
   for spp in 1 4 16; do
-    small=1e9 big=1e9
-    for ((k = 0; k < rounds; k++)); do
-      t=$(trace "$work/spheres_100.txt" "$spp")
-      small=$(least "$small" "$t")
-      t=$(trace "$work/spheres_1000000.txt" "$spp")
-      big=$(least "$big" "$t")
-    done
-    printf '| %3s | %11.3f | %17.3f | %5.2fx |\n' "$spp" "$small" "$big" "$(awk -v a="$big" -v b="$small" 'BEGIN {print a / b}')"
+    ratio_row "$spp" glint_trace
   done
   command -v povray > /dev/null || { echo "(POV-Ray is not installed: no comparison of its ratio)"; exit 0; }
   # povtrace N: POV-Ray's trace time (its own figure, parsing and bounding
   # apart) for the twin of spheres_N, one ray per pixel, two threads.
   povtrace() {
-    (cd "$work" && povray +W1024 +H768 -A -D +WT2 File_Gamma=1.0 +O"$work/p.png" "spheres_$1.pov" > /dev/null 2> "$work/plog") || {
-      cat "$work/plog" >&2
-      return 1
-    }
+    pov_render "$work" "spheres_$1.pov" 1024 768 || return 1
     local t
     t=$(sed -nE 's/^ *Trace Time:.*\(([0-9.]+) seconds\).*/\1/p' "$work/plog")
     [[ -n $t ]] || { echo "no trace time in POV-Ray's output" >&2; return 1; }
     echo "$t"
   }
   for n in 100 1000000; do spheres "$n" pov; done
-  small=1e9 big=1e9
-  for ((k = 0; k < rounds; k++)); do
-    t=$(povtrace 100)
-    small=$(least "$small" "$t")
-    t=$(povtrace 1000000)
-    big=$(least "$big" "$t")
-  done
   echo "POV-Ray 3.7 on the same two scenes, alternately, $rounds rounds, best trace seconds (its own figure), 2 threads, no anti-aliasing:"
-  printf '| %3s | %11.3f | %17.3f | %5.2fx |\n' 1 "$small" "$big" "$(awk -v a="$big" -v b="$small" 'BEGIN {print a / b}')"
+  ratio_row 1 povtrace
   exit 0
 fi
 

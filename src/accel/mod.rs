@@ -146,12 +146,7 @@ impl<'a> Accel<'a> {
         ignore_light: Option<u32>,
     ) -> ShadowReach {
         let mut roots = [0; REACH];
-        let own = |prims: &[u32]| {
-            ignore_light.is_some()
-                && prims
-                    .iter()
-                    .all(|&i| self.objects[i as usize].light() == ignore_light)
-        };
+        let own = |prims: &[u32]| prims.iter().all(|&i| self.lights_own(i, ignore_light));
         let len = self
             .bvh
             .reach(&Hull::new(origin, min, max), &mut roots, own);
@@ -214,9 +209,18 @@ impl<'a> Accel<'a> {
     /// and is not the visible surface of light `ignore_light`.
     #[inline(always)]
     fn blocks(&self, i: u32, ray: &Ray, t_max: f64, ignore_light: Option<u32>) -> bool {
-        let o = &self.objects[i as usize];
-        (o.light().is_none() || o.light() != ignore_light)
-            && o.shape.intersect(ray, ray.t_min, t_max).is_some()
+        !self.lights_own(i, ignore_light)
+            && self.objects[i as usize]
+                .shape
+                .intersect(ray, ray.t_min, t_max)
+                .is_some()
+    }
+
+    /// Whether object `i` is the visible surface of light `light` (never,
+    /// for `None`).
+    #[inline(always)]
+    fn lights_own(&self, i: u32, light: Option<u32>) -> bool {
+        light.is_some() && self.objects[i as usize].light() == light
     }
 
     /// Nodes in the hierarchy (for statistics).

@@ -741,34 +741,26 @@ impl<'p> Builder<'p> {
         // 16 × quality rays must fit in a u32; above SLOW_QUALITY a warning
         // says what they cost (the rays, what they slow).
         let max_quality = f64::from(u32::MAX / 16);
-        let shade = (
-            "shadow rays per shading point towards each area light",
-            "area lights",
-        );
-        let glossy = ("rays per glossy reflection", "glossy reflections");
-        for (key, target, max, slow) in [
+        for (key, target, rays, what) in [
             (
                 "shade_quality",
                 &mut cam.shade_quality,
-                max_quality,
-                Some(shade),
+                "shadow rays per shading point towards each area light",
+                "area lights",
             ),
             (
                 "drefl_quality",
                 &mut cam.drefl_quality,
-                max_quality,
-                Some(glossy),
+                "rays per glossy reflection",
+                "glossy reflections",
             ),
-            ("dofSample", &mut cam.dof.samples, f64::from(u32::MAX), None),
         ] {
-            let Some(x) = b.count(key, max) else {
+            let Some((x, site)) = b.count(key, max_quality) else {
                 continue;
             };
             let quality = x as u32;
             *target = quality;
-            if quality > SLOW_QUALITY
-                && let (Some((rays, what)), Some((_, site))) = (slow, b.fields.num(key))
-            {
+            if quality > SLOW_QUALITY {
                 let message = format!(
                     "`{key}={quality}` means {} {rays} (the default, 4, means 64): \
                      a scene with {what} will render very slowly",
@@ -776,6 +768,9 @@ impl<'p> Builder<'p> {
                 );
                 b.diags.warn(site, message, None);
             }
+        }
+        if let Some((x, _)) = b.count("dofSample", f64::from(u32::MAX)) {
+            cam.dof.samples = x as u32;
         }
         // Exactly 2^64: the first whole number that does not fit.
         let max64 = 18_446_744_073_709_551_615.0;
@@ -785,7 +780,7 @@ impl<'p> Builder<'p> {
             ("emit_photons", &mut photons.emit_photons),
             ("sample_photons", &mut photons.sample_photons),
         ] {
-            if let Some(x) = b.count(key, max64) {
+            if let Some((x, _)) = b.count(key, max64) {
                 *target = x as u64;
             }
         }
@@ -793,7 +788,7 @@ impl<'p> Builder<'p> {
             ("max_hitpoints", &mut photons.max_hitpoints),
             ("iterations", &mut photons.iterations),
         ] {
-            if let Some(x) = b.count(key, max64) {
+            if let Some((x, _)) = b.count(key, max64) {
                 *target = Some(x as u64);
             }
         }
@@ -1180,11 +1175,12 @@ impl Block<'_> {
         }
     }
 
-    /// An optional whole number (already known ≥ 0 and whole) at most `max`.
-    fn count(&mut self, key: &str, max: f64) -> Option<f64> {
+    /// An optional whole number (already known ≥ 0 and whole) at most
+    /// `max`, with its place in the file.
+    fn count(&mut self, key: &str, max: f64) -> Option<(f64, Site)> {
         let (x, site) = self.fields.num(key)?;
         if x <= max {
-            Some(x)
+            Some((x, site))
         } else {
             self.diags
                 .error(site, format!("`{key}=` is too large, found {x}"), None);
