@@ -2,11 +2,10 @@
 //!
 //! `cargo bench --bench bvh`; prints bytes per primitive of each structure.
 
-use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use criterion::{BatchSize, BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use glam::DVec3;
 use glint::accel::Accel;
 use glint::geometry::{Ray, Shape, Sphere, Triangle, offset_origin};
-use glint::scene::{Object, Origin};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
 use std::hint::black_box;
@@ -15,12 +14,11 @@ use std::time::Duration;
 /// Rays per measured batch.
 const BATCH: usize = 20_000;
 
+/// The structure holds bare shapes here (the renderer's objects add a material).
+type Object = Shape;
+
 fn object(shape: Shape) -> Object {
-    Object {
-        shape,
-        material: 0,
-        origin: Origin::Block(0),
-    }
+    shape
 }
 
 /// `n` spheres in a cube of side n^(1/3) (about one per unit volume, so the
@@ -70,7 +68,7 @@ fn bunny() -> Vec<Object> {
 fn scene_bounds(objects: &[Object]) -> (DVec3, DVec3) {
     objects
         .iter()
-        .filter_map(|o| o.shape.bounds())
+        .filter_map(|o| o.bounds())
         .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), b| {
             (lo.min(b.min), hi.max(b.max))
         })
@@ -136,13 +134,13 @@ fn camera_tiles(objects: &[Object], seed: u64) -> Vec<Ray> {
 
 /// Shadow rays from where `rays` hit, towards a light above the scene:
 /// each ray, its length and the object it leaves.
-fn shadow_rays(accel: &Accel, objects: &[Object], rays: &[Ray]) -> Vec<(Ray, f64, u32)> {
+fn shadow_rays(accel: &Accel<Object>, objects: &[Object], rays: &[Ray]) -> Vec<(Ray, f64, u32)> {
     let (lo, hi) = scene_bounds(objects);
     let light = (lo + hi) * 0.5 + DVec3::new(0.2, -0.5, 1.0) * (hi - lo).length();
     rays.iter()
         .filter_map(|r| {
             let (i, h) = accel.intersect(r, f64::INFINITY)?;
-            let s = objects[i as usize].shape.surface(r, &h);
+            let s = objects[i as usize].surface(r, &h);
             let side = if s.normal.dot(r.dir) < 0.0 {
                 s.normal
             } else {
@@ -164,9 +162,13 @@ fn build(c: &mut Criterion) {
         let objects = random_spheres(n, 1);
         g.throughput(Throughput::Elements(n as u64));
         g.bench_with_input(BenchmarkId::new("spheres", n), &objects, |b, o| {
-            b.iter(|| Accel::build(black_box(o)))
+            b.iter_batched(
+                || o.clone(),
+                |o| Accel::build(black_box(o)),
+                BatchSize::LargeInput,
+            )
         });
-        let accel = Accel::build(&objects);
+        let accel = Accel::build(objects.clone());
         eprintln!(
             "spheres {n}: {} nodes, {:.1} bytes per primitive (plus {} per Object)",
             accel.node_count(),
@@ -189,7 +191,7 @@ fn traverse(c: &mut Criterion) {
         ("bunny", bunny()),
     ];
     for (name, objects) in &scenes {
-        let accel = Accel::build(objects);
+        let accel = Accel::build(objects.clone());
         let rays = primary_rays(objects, 4);
         let hits = rays
             .iter()

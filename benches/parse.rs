@@ -43,7 +43,7 @@ fn parse(c: &mut Criterion) {
     }
     // The bench measures a successful parse of every sphere (and the floor).
     match Scene::from_file(&path) {
-        Ok(s) if s.objects.len() == SPHERES + 1 => {}
+        Ok(s) if s.objects().len() == SPHERES + 1 => {}
         other => {
             eprintln!("skipping: the generated scene did not parse as expected: {other:?}");
             let _ = std::fs::remove_file(&path);
@@ -55,7 +55,7 @@ fn parse(c: &mut Criterion) {
         .measurement_time(Duration::from_secs(5))
         .throughput(Throughput::Bytes(text.len() as u64));
     g.bench_function("spheres-100k-file", |b| {
-        b.iter(|| Scene::from_file(&path).map(|s| s.objects.len()))
+        b.iter(|| Scene::from_file(&path).map(|s| s.objects().len()))
     });
     g.finish();
     let _ = std::fs::remove_file(&path);

@@ -3,7 +3,7 @@
 //! for one run: `glint render ../shared/scenes/framework/scene1.txt`.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use glint::{RenderOptions, Scene, render_with_progress};
+use glint::{Control, RenderOptions, Renderer, Scene};
 use std::time::Duration;
 
 fn scene1(c: &mut Criterion) {
@@ -12,14 +12,15 @@ fn scene1(c: &mut Criterion) {
         eprintln!("skipping: {path} not found");
         return;
     };
+    let renderer = Renderer::new(scene);
     let mut group = c.benchmark_group("render");
     group
         .sample_size(10)
         .measurement_time(Duration::from_secs(30));
     group.bench_function("scene1 1280x760 adaptive", |b| {
         b.iter(|| {
-            let (_, stats) = render_with_progress(&scene, &RenderOptions::default(), &|_, _| {});
-            stats.rays.total()
+            let done = renderer.render_with(&RenderOptions::default(), Control::default());
+            done.map(|(_, stats)| stats.rays.total())
         })
     });
     group.finish();

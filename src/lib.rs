@@ -2,28 +2,46 @@
 //! ray tracer (spheres, planes, squares, cubes, cylinders, Bézier surfaces of
 //! revolution; point, square and sphere lights; BMP textures).
 //!
-//! Data flows one way: text → [`Scene`] → acceleration structure →
-//! [`render()`] → [`Image`] → file.
+//! Data flows one way: text → [`Scene`] → [`Renderer`] (which owns the
+//! acceleration structure) → [`Film`] → [`Image`] → file.
 //!
 //! ```no_run
 //! let scene = glint::Scene::from_file("examples/showcase.txt")?;
-//! let image = glint::render(&scene, &glint::RenderOptions::default());
-//! image.save("showcase.png")?;
+//! let renderer = glint::Renderer::new(scene);
+//! let film = renderer.render(&glint::RenderOptions::default())?;
+//! film.image().save("showcase.png")?;
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+#[cfg(feature = "bench")]
+#[doc(hidden)]
 pub mod accel;
+#[cfg(not(feature = "bench"))]
+mod accel;
+mod format;
+#[cfg(feature = "bench")]
+#[doc(hidden)]
 pub mod geometry;
-pub mod output;
-pub mod probe;
-pub mod render;
+#[cfg(not(feature = "bench"))]
+mod geometry;
+mod integrator;
+mod output;
+mod probe;
+mod render;
+mod sampling;
 pub mod scene;
-pub mod shading;
 
-pub use output::Image;
+pub use geometry::Shape;
+pub use integrator::RayCounts;
+pub use output::{Format, Image, SaveError};
+pub use probe::{ProbeHit, RayError, parse_ray, to_json, to_text};
 pub use render::{
-    MAX_THREADS, RenderOptions, RenderStats, memory_needed, render, render_with_progress,
+    Control, Film, MAX_THREADS, Plane, Region, RenderError, RenderOptions, RenderStats, Renderer,
+    Stage, memory_needed,
 };
 pub use scene::{Scene, SceneError};
+
+#[cfg(test)]
+mod tests;

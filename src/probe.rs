@@ -1,8 +1,7 @@
 //! `glint probe`: first hits of arbitrary rays, for exact geometry tests and debugging.
 
-use crate::accel::Accel;
 use crate::geometry::Ray;
-use crate::scene::Scene;
+use crate::render::Renderer;
 use glam::{DVec2, DVec3};
 use std::fmt::Write;
 
@@ -23,25 +22,14 @@ pub struct ProbeHit {
     pub uv: DVec2,
 }
 
-/// Answers first-hit queries over a scene.
-pub struct Prober<'a> {
-    accel: Accel<'a>,
-}
-
-impl<'a> Prober<'a> {
-    /// Builds the acceleration structure for `scene`.
-    pub fn new(scene: &'a Scene) -> Self {
-        Prober {
-            accel: Accel::build(&scene.objects),
-        }
-    }
-
+impl Renderer {
     /// The first hit along `dir` (any length but zero) from `origin`.
     pub fn probe(&self, origin: DVec3, dir: DVec3) -> Option<ProbeHit> {
         let ray = Ray::new(origin, dir.normalize());
-        let (index, hit) = self.accel.intersect(&ray, f64::INFINITY)?;
-        let object = &self.accel.objects()[index as usize];
-        let s = object.shape.surface(&ray, &hit);
+        let accel = self.accel();
+        let (index, hit) = accel.intersect(&ray, f64::INFINITY)?;
+        let object = &accel.objects()[index as usize];
+        let s = object.shape().surface(&ray, &hit);
         let front = s.normal.dot(ray.dir) < 0.0;
         Some(ProbeHit {
             t: hit.t,

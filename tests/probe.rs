@@ -869,10 +869,9 @@ fn probe_bezier_surfaces_match_scan_reference() {
         let answers = probe(&scene, &rays, false);
         for (&(o, d), got) in rays.iter().zip(answers) {
             total += 1;
-            let ray = glint::geometry::Ray::new(o, d);
             let span = m.scale + (o - m.o1).length();
             let tol = |t: f64| 1e-6 * t + 1e-9 * span;
-            let refs = m.scan(&ray, 4000);
+            let refs = m.scan(o, d, 4000);
             if refs.iter().any(|h| h.t.abs() <= 1e-9 * span) {
                 continue; // starts on the surface
             }

@@ -1,8 +1,33 @@
 //! Rendering tests whose expected values are computed independently here.
 
 use glam::DVec3;
-use glint::geometry::Ray;
-use glint::{Image, RenderOptions, Scene, render};
+use glint::{Image, RenderOptions, Renderer, Scene};
+
+/// A ray of the reference computations: origin and unit direction.
+#[derive(Clone, Copy, Debug)]
+struct Ray {
+    origin: DVec3,
+    dir: DVec3,
+}
+
+impl Ray {
+    fn new(origin: DVec3, dir: DVec3) -> Ray {
+        Ray { origin, dir }
+    }
+
+    fn at(&self, t: f64) -> DVec3 {
+        self.origin + self.dir * t
+    }
+}
+
+/// `s` rendered as `options` say.
+fn render(s: &Scene, options: &RenderOptions) -> Image {
+    let renderer = Renderer::new(s.clone());
+    match renderer.render(options) {
+        Ok(film) => film.into_image(),
+        Err(e) => panic!("{e}"),
+    }
+}
 
 fn scene(text: &str) -> Scene {
     Scene::parse(text, ".").unwrap_or_else(|e| panic!("{e}"))
@@ -258,6 +283,7 @@ fn same_seed_same_bytes_whatever_the_threads() {
                 threads: Some(1),
                 seed: 7,
                 spp,
+                ..RenderOptions::default()
             },
         );
         let four = render(
@@ -266,6 +292,7 @@ fn same_seed_same_bytes_whatever_the_threads() {
                 threads: Some(4),
                 seed: 7,
                 spp,
+                ..RenderOptions::default()
             },
         );
         assert_eq!(one.to_rgb8(), four.to_rgb8(), "spp {spp:?}");
@@ -275,6 +302,7 @@ fn same_seed_same_bytes_whatever_the_threads() {
                 threads: Some(4),
                 seed: 8,
                 spp,
+                ..RenderOptions::default()
             },
         );
         assert_ne!(
@@ -298,10 +326,13 @@ fn framework_scenes_render() {
         if path.extension().is_none_or(|e| e != "txt") {
             continue;
         }
-        let mut s = Scene::from_file(&path).unwrap_or_else(|e| panic!("{e}"));
-        s.camera.width /= 8;
-        s.camera.height /= 8;
-        let img = render(&s, &RenderOptions::default());
+        let s = Scene::from_file(&path).unwrap_or_else(|e| panic!("{e}"));
+        let small = RenderOptions {
+            width: Some(s.camera().width / 8),
+            height: Some(s.camera().height / 8),
+            ..RenderOptions::default()
+        };
+        let img = render(&s, &small);
         let colours = distinct_colours(&img);
         assert!(colours > 200, "{}: only {colours} colours", path.display());
         for y in 0..img.height() {
@@ -378,7 +409,7 @@ fn emitters_seen_directly_and_in_a_mirror() {
             refl= 0.5
          end",
     );
-    assert!(s.warnings.is_empty(), "intensity= is a light key");
+    assert!(s.warnings().is_empty(), "intensity= is a light key");
     let img = render_one_spp(&s);
     let bytes = img.to_rgb8();
     let at = |x: u32, y: u32| -> [u8; 3] {
@@ -456,21 +487,23 @@ fn emitters_seen_directly_and_in_a_mirror() {
 /// renders, at 96 × 54, to a clean picture with plenty of detail.
 #[test]
 fn showcase_is_clean_and_renders() {
-    let mut s = Scene::from_file("examples/showcase.txt").unwrap_or_else(|e| panic!("{e}"));
-    let warnings: Vec<String> = s.warnings.iter().map(|w| w.to_string()).collect();
+    let s = Scene::from_file("examples/showcase.txt").unwrap_or_else(|e| panic!("{e}"));
+    let warnings: Vec<String> = s.warnings().iter().map(|w| w.to_string()).collect();
     assert!(warnings.is_empty(), "{}", warnings.join("\n"));
-    assert_eq!((s.camera.width, s.camera.height), (960, 540));
-    assert_eq!(s.lights.len(), 2);
+    assert_eq!((s.camera().width, s.camera().height), (960, 540));
+    assert_eq!(s.lights().len(), 2);
     // Every primitive block (none is a mesh), plus the visible surfaces of
     // the two area lights.
     let text = std::fs::read_to_string("examples/showcase.txt").unwrap();
     let blocks = text.lines().filter(|l| l.starts_with("primitive ")).count();
     assert_eq!(blocks, 16);
-    assert_eq!(s.objects.len(), blocks + 2);
+    assert_eq!(s.objects().len(), blocks + 2);
     // As `--width 96` does: the aspect kept.
-    s.camera.width = 96;
-    s.camera.height = 54;
-    let img = render(&s, &RenderOptions::default());
+    let small = RenderOptions {
+        width: Some(96),
+        ..RenderOptions::default()
+    };
+    let img = render(&s, &small);
     assert_eq!((img.width(), img.height()), (96, 54));
     let mut sum = 0.0;
     for y in 0..54 {

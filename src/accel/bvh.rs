@@ -227,11 +227,13 @@ impl Bvh {
     }
 
     /// Number of nodes.
+    #[cfg(feature = "bench")]
     pub(crate) fn node_count(&self) -> usize {
         (2 * self.pairs.len()).saturating_sub(1)
     }
 
     /// Bytes held on the heap.
+    #[cfg(feature = "bench")]
     pub(crate) fn heap_bytes(&self) -> usize {
         self.pairs.capacity() * size_of::<Pair>()
             + (self.prims.capacity() + self.parent.capacity() + self.leaf_of.capacity())

@@ -13,8 +13,7 @@
 mod bvh;
 mod packet;
 
-use crate::geometry::{Hit, Ray};
-use crate::scene::Object;
+use crate::geometry::{Hit, Ray, Shape};
 use bvh::{Bvh, Hull, Item};
 use glam::DVec3;
 pub use packet::PACKET_MAX;
@@ -38,17 +37,38 @@ enum Walk<'r> {
     Within(&'r [u32]),
 }
 
-/// Answers ray queries over a list of objects.
-pub struct Accel<'a> {
-    objects: &'a [Object],
+/// What the structure holds: a shape, and whether it is the visible
+/// surface of a light (shadow rays towards that light ignore it).
+pub trait Primitive {
+    /// The geometry.
+    fn shape(&self) -> &Shape;
+    /// The light whose visible surface this is, if any.
+    fn light(&self) -> Option<u32>;
+}
+
+/// A bare shape, for the micro-benchmarks: never a light's surface.
+#[cfg(feature = "bench")]
+impl Primitive for Shape {
+    fn shape(&self) -> &Shape {
+        self
+    }
+
+    fn light(&self) -> Option<u32> {
+        None
+    }
+}
+
+/// Answers ray queries over the objects it owns.
+pub struct Accel<P> {
+    objects: Vec<P>,
     bvh: Bvh,
     /// Objects kept out of the tree (planes), tested against every ray.
     unbounded: Vec<u32>,
 }
 
-impl<'a> Accel<'a> {
+impl<P: Primitive> Accel<P> {
     /// Builds the structure over `objects` (indices into it are returned by queries).
-    pub fn build(objects: &'a [Object]) -> Self {
+    pub fn build(objects: Vec<P>) -> Self {
         // Sequential, into one exact allocation: a parallel collect goes
         // through temporary pieces that can stay resident and raise the peak.
         let mut items = Vec::with_capacity(objects.len());
@@ -56,7 +76,7 @@ impl<'a> Accel<'a> {
             objects
                 .iter()
                 .enumerate()
-                .filter_map(|(i, o)| Item::new(i as u32, &o.shape.bounds()?)),
+                .filter_map(|(i, o)| Item::new(i as u32, &o.shape().bounds()?)),
         );
         // The objects left out, in order: the gaps between the items' indices.
         let mut unbounded = Vec::new();
@@ -65,16 +85,17 @@ impl<'a> Accel<'a> {
             unbounded.extend(next..index);
             next = index + 1;
         }
+        let bvh = Bvh::build(items, objects.len());
         Accel {
             objects,
-            bvh: Bvh::build(items, objects.len()),
+            bvh,
             unbounded,
         }
     }
 
     /// The objects the queries run over.
-    pub fn objects(&self) -> &'a [Object] {
-        self.objects
+    pub fn objects(&self) -> &[P] {
+        &self.objects
     }
 
     /// The nearest hit with `ray.t_min` < t < `t_max`: the object's index and the hit.
@@ -104,7 +125,7 @@ impl<'a> Accel<'a> {
             _ => *t_best,
         };
         if let Some(h) = self.objects[i as usize]
-            .shape
+            .shape()
             .intersect(ray, ray.t_min, limit)
         {
             *t_best = h.t;
@@ -114,6 +135,7 @@ impl<'a> Accel<'a> {
 
     /// Whether anything lies on the ray with `ray.t_min` < t < `t_max`, not counting
     /// the visible surface of light `ignore_light`.
+    #[cfg(any(test, feature = "bench"))]
     pub fn occluded(&self, ray: &Ray, t_max: f64, ignore_light: Option<u32>) -> bool {
         self.occluded_hinted(ray, t_max, ignore_light, None, &mut None)
     }
@@ -211,7 +233,7 @@ impl<'a> Accel<'a> {
     fn blocks(&self, i: u32, ray: &Ray, t_max: f64, ignore_light: Option<u32>) -> bool {
         !self.lights_own(i, ignore_light)
             && self.objects[i as usize]
-                .shape
+                .shape()
                 .intersect(ray, ray.t_min, t_max)
                 .is_some()
     }
@@ -224,11 +246,13 @@ impl<'a> Accel<'a> {
     }
 
     /// Nodes in the hierarchy (for statistics).
+    #[cfg(feature = "bench")]
     pub fn node_count(&self) -> usize {
         self.bvh.node_count()
     }
 
     /// Bytes the structure holds beyond the objects themselves.
+    #[cfg(feature = "bench")]
     pub fn memory_bytes(&self) -> usize {
         size_of::<Self>() + self.bvh.heap_bytes() + self.unbounded.capacity() * size_of::<u32>()
     }

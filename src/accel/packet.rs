@@ -4,15 +4,15 @@
 //! whole packet skips a box that lies outside all of them at once. Each
 //! answer is exactly that of [`Accel::intersect`] for the same ray.
 
-use super::Accel;
 use super::bvh::{FAR_SLACK, MISS, Node, Pair, RayBox, STACK_SIZE, max_num, min_num};
+use super::{Accel, Primitive};
 use crate::geometry::{Hit, Ray};
 use glam::DVec3;
 
 /// Rays in one packet at most (longer slices are split).
 pub const PACKET_MAX: usize = 64;
 
-impl Accel<'_> {
+impl<P: Primitive> Accel<P> {
     /// The nearest hit of each ray (`ray.t_min` < t, at any distance) into
     /// `out`: for each ray exactly what [`Accel::intersect`] returns.
     pub fn intersect_packet(&self, rays: &[Ray], out: &mut [Option<(u32, Hit)>]) {

@@ -1,8 +1,10 @@
 //! The `glint` command line: argument parsing, progress and reporting only.
 
 use clap::{Args, Parser, Subcommand};
-use glint::probe::{Prober, parse_ray, to_json};
-use glint::{MAX_THREADS, RenderOptions, Scene, memory_needed, render_with_progress};
+use glint::{
+    Control, Format, MAX_THREADS, RenderError, RenderOptions, Renderer, Scene, memory_needed,
+    parse_ray, to_json, to_text,
+};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::{BufRead, IsTerminal, Read, Write};
 use std::path::{Path, PathBuf};
@@ -131,7 +133,7 @@ fn main() -> ExitCode {
 /// Reads a scene, printing its warnings; errors become a [`Failure`].
 fn load_scene(path: &Path) -> Result<Scene, Failure> {
     let scene = Scene::from_file(path).map_err(|e| Failure(e.to_string()))?;
-    for w in &scene.warnings {
+    for w in scene.warnings() {
         eprintln!("{}\n", shown(&w.to_string()));
     }
     Ok(scene)
@@ -139,20 +141,28 @@ fn load_scene(path: &Path) -> Result<Scene, Failure> {
 
 fn run_render(args: RenderArgs) -> Result<(), Failure> {
     let start = Instant::now();
-    let mut scene = load_scene(&args.scene)?;
+    let scene = load_scene(&args.scene)?;
     let output = args.output.clone().unwrap_or_else(|| {
         let stem = args.scene.file_stem().unwrap_or_default();
         PathBuf::from(stem).with_extension("png")
     });
     // Fail on the output path before spending the render time.
-    glint::output::Format::from_path(&output).map_err(|e| Failure(format!("error: {e}")))?;
-    apply_size(&mut scene, args.width, args.height)?;
+    Format::from_path(&output).map_err(|e| Failure(format!("error: {e}")))?;
     if args.verbose {
-        for note in &scene.notes {
+        for note in scene.notes() {
             eprintln!("note: {}", shown(note));
         }
     }
-    let (w, h) = (scene.camera.width, scene.camera.height);
+    let options = RenderOptions {
+        threads: args.threads,
+        seed: args.seed,
+        spp: args.spp,
+        width: args.width,
+        height: args.height,
+        region: None,
+    };
+    let renderer = Renderer::new(scene);
+    let (w, h) = renderer.frame_size(&options).map_err(render_failure)?;
     check_memory(w, h)?;
 
     let bar = if args.quiet || !std::io::stderr().is_terminal() {
@@ -166,17 +176,19 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
         }
         bar
     };
-    let options = RenderOptions {
-        threads: args.threads,
-        seed: args.seed,
-        spp: args.spp,
-    };
-    let (image, stats) = render_with_progress(&scene, &options, &|done, total| {
+    let progress = |done, total| {
         bar.set_length(total);
         bar.set_position(done);
-    });
+    };
+    let control = Control {
+        progress: Some(&progress),
+        cancel: None,
+    };
+    let (film, stats) = renderer
+        .render_with(&options, control)
+        .map_err(render_failure)?;
     bar.finish_and_clear();
-    image
+    film.image()
         .save(&output)
         .map_err(|e| Failure(format!("error: cannot write the image: {e}")))?;
     if !args.quiet {
@@ -187,7 +199,7 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
             w,
             h,
             start.elapsed().as_secs_f64(),
-            stats.elapsed.as_secs_f64(),
+            (stats.elapsed + stats.build).as_secs_f64(),
             stats.build.as_secs_f64(),
             r.total() as f64 / 1e6,
             stats.mrays_per_sec()
@@ -202,30 +214,12 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-/// Largest image side accepted, as for the scene's image_W= / image_H=.
-const MAX_SIDE: u32 = 32768;
-
-/// Applies --width/--height; one alone keeps the scene's image aspect.
-fn apply_size(scene: &mut Scene, width: Option<u32>, height: Option<u32>) -> Result<(), Failure> {
-    for (name, v) in [("--width", width), ("--height", height)] {
-        if let Some(v) = v
-            && (v == 0 || v > MAX_SIDE)
-        {
-            return Err(Failure(format!(
-                "error: {name} {v} is out of range: an image side must be 1 to {MAX_SIDE} pixels"
-            )));
-        }
+/// A render that could not start: a size option out of range names its option.
+fn render_failure(e: RenderError) -> Failure {
+    match e {
+        RenderError::Side { .. } => Failure(format!("error: --{e}")),
+        _ => Failure(format!("error: {e}")),
     }
-    let cam = &mut scene.camera;
-    let (w0, h0) = (cam.width as f64, cam.height as f64);
-    let scaled = |v: f64| (v.round() as u32).clamp(1, MAX_SIDE);
-    match (width, height) {
-        (Some(w), Some(h)) => (cam.width, cam.height) = (w, h),
-        (Some(w), None) => (cam.width, cam.height) = (w, scaled(w as f64 * h0 / w0)),
-        (None, Some(h)) => (cam.width, cam.height) = (scaled(h as f64 * w0 / h0), h),
-        (None, None) => {}
-    }
-    Ok(())
 }
 
 /// Refuses a size whose buffers would not fit in the memory available now.
@@ -282,7 +276,7 @@ fn run_probe(args: ProbeArgs) -> Result<(), Failure> {
         return Err(Failure(errors.join("\n")));
     }
 
-    let prober = Prober::new(&scene);
+    let prober = Renderer::new(scene);
     let lines: Vec<String> = {
         use rayon::prelude::*;
         rays.par_chunks(4096)
@@ -293,7 +287,7 @@ fn run_probe(args: ProbeArgs) -> Result<(), Failure> {
                     if args.json {
                         s.push_str(&to_json(hit.as_ref()));
                     } else {
-                        s.push_str(&glint::probe::to_text(hit.as_ref()));
+                        s.push_str(&to_text(hit.as_ref()));
                     }
                     s.push('\n');
                 }

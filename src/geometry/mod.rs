@@ -25,7 +25,7 @@ pub use cylinder::Cylinder;
 pub use plane::Plane;
 pub use sphere::Sphere;
 pub use square::Square;
-pub use triangle::{Triangle, load_obj};
+pub use triangle::Triangle;
 
 use glam::{DVec2, DVec3};
 
@@ -260,6 +260,13 @@ pub fn axis_frame(axis: DVec3) -> (DVec3, DVec3) {
     (e1, axis.cross(e1))
 }
 
+/// Two unit vectors perpendicular to the unit vector `w` and to each other.
+pub fn perpendiculars(w: DVec3) -> (DVec3, DVec3) {
+    let a = if w.x.abs() > 0.9 { DVec3::Y } else { DVec3::X };
+    let u = w.cross(a).normalize();
+    (u, w.cross(u))
+}
+
 /// The angle of `q` around an axis with frame (e1, e2), in [0, 2π).
 pub fn angle_around(q: DVec3, e1: DVec3, e2: DVec3) -> f64 {
     let a = q.dot(e2).atan2(q.dot(e1));
@@ -290,6 +297,20 @@ pub const SLIVER_REL: f64 = 1e-10;
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn perpendiculars_are_orthonormal() {
+        for w in [
+            DVec3::X,
+            DVec3::Y,
+            -DVec3::Z,
+            DVec3::new(1.0, 2.0, -3.0).normalize(),
+        ] {
+            let (u, v) = perpendiculars(w);
+            assert!(u.dot(w).abs() < 1e-15 && v.dot(w).abs() < 1e-15 && u.dot(v).abs() < 1e-15);
+            assert!((u.length() - 1.0).abs() < 1e-15 && (v.length() - 1.0).abs() < 1e-15);
+        }
+    }
 
     /// A million-sphere scene keeps its objects small: the enum stays at the
     /// sphere's size because the larger kinds are boxed.

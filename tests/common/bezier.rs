@@ -6,8 +6,7 @@
 //! (The same model as `tests/bezier.rs`, which can use this module instead
 //! of its own copy.)
 
-use glam::{DVec2, DVec3};
-use glint::geometry::{Bezier, Ray};
+use glam::DVec3;
 
 /// A surface of revolution about the axis `o1` → `o2` (unit `a`, with
 /// `u`, `w` completing a frame) of the profile with control points (z, r).
@@ -82,16 +81,6 @@ impl Model {
         m
     }
 
-    pub fn shape(&self) -> Bezier {
-        let pts = self
-            .z
-            .iter()
-            .zip(&self.r)
-            .map(|(&z, &r)| DVec2::new(z, r))
-            .collect();
-        Bezier::new(self.o1, self.o2, pts)
-    }
-
     pub fn zr(&self, s: f64) -> (f64, f64) {
         (casteljau(&self.z, s), casteljau(&self.r, s))
     }
@@ -132,22 +121,22 @@ impl Model {
     }
 
     /// The ray's origin (from O1) and direction split along and across the axis: (pa, da, pp, dp).
-    pub fn split(&self, ray: &Ray) -> (f64, f64, DVec3, DVec3) {
-        let p = ray.origin - self.o1;
-        let d = ray.dir;
+    pub fn split(&self, origin: DVec3, dir: DVec3) -> (f64, f64, DVec3, DVec3) {
+        let p = origin - self.o1;
+        let d = dir;
         let (pa, da) = (p.dot(self.a), d.dot(self.a));
         (pa, da, p - self.a * pa, d - self.a * da)
     }
 
     /// Every hit of the ray with the surface, found by scanning the exact
     /// equations at `n` values of s and bisecting each sign change.
-    pub fn scan(&self, ray: &Ray, n: usize) -> Vec<RefHit> {
-        let d = ray.dir;
-        let (pa, da, pp, dp) = self.split(ray);
+    pub fn scan(&self, origin: DVec3, dir: DVec3, n: usize) -> Vec<RefHit> {
+        let d = dir;
+        let (pa, da, pp, dp) = self.split(origin, dir);
         let aa = dp.length_squared();
         let mut out = Vec::new();
         let mut push = |s: f64, t: f64| {
-            let pt = ray.at(t);
+            let pt = origin + dir * t;
             out.push(RefHit {
                 t,
                 s,

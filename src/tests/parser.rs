@@ -2,10 +2,10 @@
 //! overrides, every kind of error and warning at its exact line and column,
 //! the real scene files, and fuzzing (no input may panic).
 
+use crate::Scene;
+use crate::geometry::Shape;
+use crate::scene::{Background, Diagnostic, LightKind, SceneError, Severity};
 use glam::{DVec2, DVec3};
-use glint::Scene;
-use glint::geometry::Shape;
-use glint::scene::{Background, Diagnostic, LightKind, SceneError, Severity};
 use proptest::prelude::*;
 use std::path::Path;
 
@@ -27,7 +27,7 @@ fn diagnostics(text: &str) -> Vec<Diagnostic> {
     match parse(text) {
         Ok(s) => panic!(
             "expected errors, got a scene with warnings {:?}",
-            s.warnings
+            s.warnings()
         ),
         Err(e) => e.diagnostics,
     }
@@ -57,12 +57,12 @@ fn error_at(text: &str, line: usize, column: usize) -> Diagnostic {
 fn warning_at(text: &str, line: usize, column: usize) -> Diagnostic {
     let s = ok(text);
     assert_eq!(
-        s.warnings.len(),
+        s.warnings().len(),
         1,
         "expected one warning: {:#?}",
-        s.warnings
+        s.warnings()
     );
-    let d = s.warnings.into_iter().next().unwrap();
+    let d = s.warnings()[0].clone();
     assert_eq!(d.severity, Severity::Warning);
     assert_eq!(
         (d.line, d.column),
@@ -105,7 +105,7 @@ fn camera_keys_all_reach_their_fields() {
     reduction= 0.7
 end
 ");
-    let c = &s.camera;
+    let c = &s.camera();
     assert_eq!(c.origin, v(1.0, 2.0, 3.0));
     assert!(close(c.dir, v(0.0, 0.6, 0.8)), "{:?}", c.dir);
     assert_eq!((c.lens_w, c.lens_h), (1.5, 0.75));
@@ -121,12 +121,12 @@ end
     assert_eq!(c.dof.aperture, 0.1);
     assert_eq!(c.dof.focal_len, 7.0);
     assert_eq!(c.dof.samples, 9);
-    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    assert!(s.warnings().is_empty(), "{:?}", s.warnings());
 }
 
 #[test]
 fn camera_defaults_match_the_spec() {
-    let c = ok("camera\nend\n").camera;
+    let c = ok("camera\nend\n").camera().clone();
     assert_eq!(c.origin, DVec3::ZERO);
     assert_eq!(c.dir, DVec3::Y);
     assert_eq!(
@@ -148,20 +148,20 @@ fn camera_defaults_match_the_spec() {
 
 #[test]
 fn background_color_and_gradients() {
-    assert_eq!(ok("").background, Background::Color(DVec3::ZERO));
+    assert_eq!(ok("").background(), Background::Color(DVec3::ZERO));
     assert_eq!(
-        ok("background\n color= 0.1 0.2 0.3\nend").background,
+        ok("background\n color= 0.1 0.2 0.3\nend").background(),
         Background::Color(v(0.1, 0.2, 0.3))
     );
     assert_eq!(
-        ok("background\n top= 0.5 0.7 1\nend").background,
+        ok("background\n top= 0.5 0.7 1\nend").background(),
         Background::Gradient {
             top: v(0.5, 0.7, 1.0),
             bottom: DVec3::ONE
         }
     );
     assert_eq!(
-        ok("background\n bottom= 0 0 0.5\n top= 1 0 0\nend").background,
+        ok("background\n bottom= 0 0 0.5\n top= 1 0 0\nend").background(),
         Background::Gradient {
             top: v(1.0, 0.0, 0.0),
             bottom: v(0.0, 0.0, 0.5)
@@ -169,7 +169,7 @@ fn background_color_and_gradients() {
     );
     // The later key wins between a uniform colour and a gradient.
     assert_eq!(
-        ok("background\n top= 1 0 0\n color= 0 1 0\nend").background,
+        ok("background\n top= 1 0 0\n color= 0 1 0\nend").background(),
         Background::Color(v(0.0, 1.0, 0.0))
     );
 }
@@ -190,13 +190,13 @@ fn material_keys_all_reach_their_fields() {
     texture= tiny.bmp
 end
 ");
-    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
-    let m = s.material(s.objects[0].material);
+    assert!(s.warnings().is_empty(), "{:?}", s.warnings());
+    let m = s.material_of(&s.objects()[0]);
     assert_eq!(m.color, v(0.1, 0.2, 0.3));
     assert_eq!((m.diff, m.spec, m.refl, m.drefl), (0.4, 0.5, 0.6, 0.7));
     assert_eq!((m.refr, m.rindex), (0.8, 1.5));
     assert_eq!(m.absor, v(0.01, 0.02, 0.03));
-    let t = &s.textures[m.texture.unwrap() as usize];
+    let t = &s.textures()[m.texture.unwrap() as usize];
     assert_eq!((t.width(), t.height()), (2, 2));
     // Row 0 is the bottom row of the BMP: red, then green.
     assert_eq!(t.sample(DVec2::new(0.0, 0.0)), v(1.0, 0.0, 0.0));
@@ -206,7 +206,7 @@ end
 #[test]
 fn material_defaults_are_zero() {
     let s = ok("primitive sphere\n R= 1\nend");
-    let m = s.material(s.objects[0].material);
+    let m = s.material_of(&s.objects()[0]);
     assert_eq!(m.color, DVec3::ZERO);
     assert_eq!(
         (m.diff, m.spec, m.refl, m.drefl, m.refr, m.rindex),
@@ -218,13 +218,13 @@ fn material_defaults_are_zero() {
 #[test]
 fn sphere_keys() {
     let s = ok("primitive sphere\n O= 1 2 3\n R= 0.5\n De= 0 0 2\n Dc= 3 0 0\nend");
-    let Shape::Sphere(sp) = &s.objects[0].shape else {
+    let Shape::Sphere(sp) = &s.objects()[0].shape else {
         panic!("not a sphere")
     };
     assert_eq!((sp.center, sp.radius), (v(1.0, 2.0, 3.0), 0.5));
     assert_eq!((sp.de(), sp.dc()), (DVec3::Z, DVec3::X));
     let s = ok("primitive sphere\n R= 1\nend");
-    let Shape::Sphere(sp) = &s.objects[0].shape else {
+    let Shape::Sphere(sp) = &s.objects()[0].shape else {
         panic!("not a sphere")
     };
     assert_eq!(
@@ -236,7 +236,7 @@ fn sphere_keys() {
 #[test]
 fn plane_keys() {
     let s = ok("primitive plane\n N= 0 0 -2\n R= -4\n Dx= 8 0 0\n Dy= 0 8 0\nend");
-    let Shape::Plane(p) = &s.objects[0].shape else {
+    let Shape::Plane(p) = &s.objects()[0].shape else {
         panic!("not a plane")
     };
     assert_eq!((p.normal, p.offset), (-DVec3::Z, -4.0));
@@ -256,7 +256,7 @@ fn plane_default_texture_axes_are_perpendicular_and_follow_n() {
             n.x, n.y, n.z
         );
         let s = ok(&text);
-        let Shape::Plane(p) = &s.objects[0].shape else {
+        let Shape::Plane(p) = &s.objects()[0].shape else {
             panic!("not a plane")
         };
         let nu = n.normalize();
@@ -275,7 +275,7 @@ fn plane_default_texture_axes_are_perpendicular_and_follow_n() {
         }
     }
     let s = ok("primitive plane\n N= 0 0 1\nend");
-    let Shape::Plane(p) = &s.objects[0].shape else {
+    let Shape::Plane(p) = &s.objects()[0].shape else {
         panic!("not a plane")
     };
     assert_eq!((p.dx, p.dy, p.offset), (DVec3::X, DVec3::Y, 0.0));
@@ -284,7 +284,7 @@ fn plane_default_texture_axes_are_perpendicular_and_follow_n() {
 #[test]
 fn square_keys() {
     let s = ok("primitive square\n O= 1 1 1\n Dx= 2 0 0\n Dy= 0 0 3\nend");
-    let Shape::Square(q) = &s.objects[0].shape else {
+    let Shape::Square(q) = &s.objects()[0].shape else {
         panic!("not a square")
     };
     assert_eq!(
@@ -301,8 +301,8 @@ fn cube_keys_orthonormal_input_is_kept_without_warning() {
         "primitive cube\n O= 1 2 3\n Dx= {c} {c} 0\n Dy= -{c} {c} 0\n x= 1\n y= 2\n z= 3\nend"
     );
     let s = ok(&text);
-    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
-    let Shape::Cube(b) = &s.objects[0].shape else {
+    assert!(s.warnings().is_empty(), "{:?}", s.warnings());
+    let Shape::Cube(b) = &s.objects()[0].shape else {
         panic!("not a cube")
     };
     assert_eq!(b.center, v(1.0, 2.0, 3.0));
@@ -315,17 +315,17 @@ fn cube_keys_orthonormal_input_is_kept_without_warning() {
 fn cube_axes_are_orthonormalised_with_warnings_at_the_keys() {
     let text = "primitive cube\n Dx= 2 0 0\n Dy= 1 1 0\n x= 1\n y= 1\n z= 1\nend";
     let s = ok(text);
-    let Shape::Cube(b) = &s.objects[0].shape else {
+    let Shape::Cube(b) = &s.objects()[0].shape else {
         panic!("not a cube")
     };
     assert!(close(b.axes[0], DVec3::X), "{:?}", b.axes);
     assert!(close(b.axes[1], DVec3::Y), "{:?}", b.axes);
     assert!(close(b.axes[2], DVec3::Z), "{:?}", b.axes);
-    let at: Vec<_> = s.warnings.iter().map(|d| (d.line, d.column)).collect();
-    assert_eq!(at, vec![(2, 2), (3, 2)], "{:#?}", s.warnings);
+    let at: Vec<_> = s.warnings().iter().map(|d| (d.line, d.column)).collect();
+    assert_eq!(at, vec![(2, 2), (3, 2)], "{:#?}", s.warnings());
     // Unit but not perpendicular: only Dy is adjusted.
     let s = ok("primitive cube\n Dx= 0 1 0\n Dy= 0.6 0.8 0\n x= 1\n y= 1\n z= 1\nend");
-    let Shape::Cube(b) = &s.objects[0].shape else {
+    let Shape::Cube(b) = &s.objects()[0].shape else {
         panic!("not a cube")
     };
     assert!(
@@ -333,11 +333,11 @@ fn cube_axes_are_orthonormalised_with_warnings_at_the_keys() {
         "{:?}",
         b.axes
     );
-    assert_eq!(s.warnings.len(), 1);
-    assert_eq!((s.warnings[0].line, s.warnings[0].column), (3, 2));
+    assert_eq!(s.warnings().len(), 1);
+    assert_eq!((s.warnings()[0].line, s.warnings()[0].column), (3, 2));
     // Without Dx/Dy the box is axis-aligned.
     let s = ok("primitive cube\n x= 1\n y= 1\n z= 1\nend");
-    let Shape::Cube(b) = &s.objects[0].shape else {
+    let Shape::Cube(b) = &s.objects()[0].shape else {
         panic!("not a cube")
     };
     assert_eq!(b.axes, [DVec3::X, DVec3::Y, DVec3::Z]);
@@ -346,7 +346,7 @@ fn cube_axes_are_orthonormalised_with_warnings_at_the_keys() {
 #[test]
 fn cylinder_keys() {
     let s = ok("primitive cylinder\n O1= 0 0 0\n O2= 0 0 2\n R= 0.5\nend");
-    let Shape::Cylinder(c) = &s.objects[0].shape else {
+    let Shape::Cylinder(c) = &s.objects()[0].shape else {
         panic!("not a cylinder")
     };
     assert_eq!((c.o1, c.o2, c.radius), (DVec3::ZERO, v(0.0, 0.0, 2.0), 0.5));
@@ -359,8 +359,8 @@ fn bezier_p_lines_accumulate_in_order_with_or_without_cylinder() {
             "primitive bezier\n    O1= 80 -10 0\n    O2= 80 -10 30\n    P= 5 5\n    P= 10 6\n    P= 15 7\n    P= 2 9\n{tail}    refl= 0.3\nend\n"
         );
         let s = ok(&text);
-        assert!(s.warnings.is_empty(), "{:?}", s.warnings);
-        let Shape::Bezier(b) = &s.objects[0].shape else {
+        assert!(s.warnings().is_empty(), "{:?}", s.warnings());
+        let Shape::Bezier(b) = &s.objects()[0].shape else {
             panic!("not a bezier")
         };
         assert_eq!((b.o1, b.o2), (v(80.0, -10.0, 0.0), v(80.0, -10.0, 30.0)));
@@ -375,7 +375,7 @@ fn bezier_p_lines_accumulate_in_order_with_or_without_cylinder() {
 #[test]
 fn triangle_keys() {
     let s = ok("primitive triangle\n O1= 0 0 0\n O2= 1 0 0\n O3= 0 1 0\nend");
-    let Shape::Triangle(t) = &s.objects[0].shape else {
+    let Shape::Triangle(t) = &s.objects()[0].shape else {
         panic!("not a triangle")
     };
     assert_eq!(t.vertices, [DVec3::ZERO, DVec3::X, DVec3::Y]);
@@ -402,36 +402,36 @@ light sphere
     color= 1 1 1
 end
 ");
-    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
-    assert_eq!(s.lights.len(), 3);
+    assert!(s.warnings().is_empty(), "{:?}", s.warnings());
+    assert_eq!(s.lights().len(), 3);
     assert_eq!(
-        s.lights[0].kind,
+        s.lights()[0].kind,
         LightKind::Point {
             pos: v(3.0, 3.0, 3.0)
         }
     );
-    assert_eq!(s.lights[0].color, v(2.0, 2.0, 2.0));
+    assert_eq!(s.lights()[0].color, v(2.0, 2.0, 2.0));
     assert_eq!(
-        s.lights[1].kind,
+        s.lights()[1].kind,
         LightKind::Square {
             center: v(0.0, 0.0, 5.0),
             dx: DVec3::X,
             dy: DVec3::Y
         }
     );
-    assert_eq!(s.lights[1].color, v(2.0, 1.0, 0.5));
+    assert_eq!(s.lights()[1].color, v(2.0, 1.0, 0.5));
     assert_eq!(
-        s.lights[2].kind,
+        s.lights()[2].kind,
         LightKind::Sphere {
             center: DVec3::ONE,
             radius: 0.5
         }
     );
-    assert_eq!(s.lights[2].color, v(1.0, 2.0, 3.0));
+    assert_eq!(s.lights()[2].color, v(1.0, 2.0, 3.0));
     // The area lights' visible surfaces, with no block index.
-    assert_eq!(s.objects.len(), 2);
+    assert_eq!(s.objects().len(), 2);
     assert_eq!(
-        s.objects
+        s.objects()
             .iter()
             .map(|o| (o.block(), o.light()))
             .collect::<Vec<_>>(),
@@ -453,11 +453,11 @@ primitive plane\n N= 0 0 1\nend
 camera\nend
 primitive square\n Dx= 1 0 0\n Dy= 0 1 0\nend
 ");
-    let blocks: Vec<_> = s.objects.iter().map(|o| o.block()).collect();
+    let blocks: Vec<_> = s.objects().iter().map(|o| o.block()).collect();
     assert_eq!(blocks, vec![Some(0), None, Some(1), Some(2)]);
     // The plane and the square, one after the other with the same (default)
     // material, share it; the others keep their own.
-    let materials: Vec<_> = s.objects.iter().map(|o| o.material).collect();
+    let materials: Vec<_> = s.objects().iter().map(|o| o.material).collect();
     assert_eq!(materials, vec![0, 1, 2, 2]);
     assert_eq!(s.material_count(), 3);
     // The light's surface differs only in colour: all share one finish.
@@ -488,7 +488,7 @@ fn only_equal_materials_are_shared() {
         ("1 0 0", diff),
     ]));
     // A whole material is shared only with the one just before it ...
-    let materials: Vec<_> = s.objects.iter().map(|o| o.material).collect();
+    let materials: Vec<_> = s.objects().iter().map(|o| o.material).collect();
     assert_eq!(materials, vec![0, 0, 1, 2]);
     let colors: Vec<_> = s.materials().map(|m| m.color).collect();
     assert_eq!(
@@ -510,12 +510,12 @@ fn equal_finishes_far_apart_in_the_file_are_shared() {
     }
     text += &sphere_with("0 0 1", glass);
     let s = ok(&text);
-    assert_eq!(s.objects.len(), 102);
+    assert_eq!(s.objects().len(), 102);
     assert_eq!(s.finish_count(), 3);
     // Every sphere and plane its own material: the colours alternate.
     assert_eq!(s.material_count(), 102);
-    let first = s.material(s.objects[0].material);
-    let last = s.material(s.objects[101].material);
+    let first = s.material_of(&s.objects()[0]);
+    let last = s.material_of(&s.objects()[101]);
     assert_eq!(
         (first.color, last.color),
         (v(1.0, 0.0, 0.0), v(0.0, 0.0, 1.0))
@@ -525,7 +525,7 @@ fn equal_finishes_far_apart_in_the_file_are_shared() {
         assert_eq!(m.absor, v(0.1, 0.2, 0.3));
         assert_eq!((m.diff, m.refl, m.drefl, m.texture), (0.0, 0.0, 0.0, None));
     }
-    let plane = s.material(s.objects[100].material);
+    let plane = s.material_of(&s.objects()[100]);
     assert_eq!((plane.refl, plane.drefl, plane.diff), (0.5, 0.1, 0.0));
 }
 
@@ -545,8 +545,8 @@ fn different_colours_with_one_finish_cost_one_finish() {
         .collect();
     let s = ok(&text);
     assert_eq!((s.material_count(), s.finish_count()), (300, 1));
-    for (o, c) in s.objects.iter().zip(&colors) {
-        let m = s.material(o.material);
+    for (o, c) in s.objects().iter().zip(&colors) {
+        let m = s.material_of(o);
         assert_eq!((m.color, m.diff, m.spec), (*c, 0.9, 0.1));
     }
 }
@@ -562,9 +562,9 @@ fn textured_and_untextured_materials_never_share() {
     assert_eq!(s.finish_count(), 2);
     assert_eq!(s.material_count(), 4);
     let textures: Vec<_> = s
-        .objects
+        .objects()
         .iter()
-        .map(|o| s.material(o.material).texture)
+        .map(|o| s.material_of(o).texture)
         .collect();
     assert_eq!(textures, vec![Some(0), None, Some(0), None]);
 }
@@ -579,7 +579,7 @@ fn sharing_is_bit_exact_so_minus_zero_keeps_its_sign() {
         ("-0 0 0", " diff= -0\n"),
         ("-0 0 0", " diff= 0\n"),
     ]));
-    let materials: Vec<_> = s.objects.iter().map(|o| o.material).collect();
+    let materials: Vec<_> = s.objects().iter().map(|o| o.material).collect();
     assert_eq!(materials, vec![0, 1, 2, 3]);
     assert_eq!(s.finish_count(), 2);
     let m: Vec<_> = s.materials().collect();
@@ -610,13 +610,13 @@ primitive sphere
     texture= tiny.bmp # the texture
 end
 ");
-    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
-    assert_eq!(s.background, Background::Color(DVec3::splat(0.5)));
+    assert!(s.warnings().is_empty(), "{:?}", s.warnings());
+    assert_eq!(s.background(), Background::Color(DVec3::splat(0.5)));
     assert_eq!(
-        (s.camera.origin, s.camera.dir),
+        (s.camera().origin, s.camera().dir),
         (v(1.0, 2.0, 3.0), DVec3::Y)
     );
-    assert_eq!(s.textures.len(), 1);
+    assert_eq!(s.textures().len(), 1);
 }
 
 #[test]
@@ -635,21 +635,21 @@ primitive sphere
     texture= tiny.bmp// the texture
 end#done
 ");
-    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    assert!(s.warnings().is_empty(), "{:?}", s.warnings());
     assert_eq!(
-        (s.camera.origin, s.camera.dir, s.camera.lens_w),
+        (s.camera().origin, s.camera().dir, s.camera().lens_w),
         (v(0.0, 5.0, 0.0), DVec3::Z, 2.0)
     );
-    assert_eq!(s.objects.len(), 2);
-    let Shape::Sphere(sp) = &s.objects[0].shape else {
+    assert_eq!(s.objects().len(), 2);
+    let Shape::Sphere(sp) = &s.objects()[0].shape else {
         panic!("not a sphere")
     };
     assert_eq!((sp.center, sp.radius), (v(1.0, 2.0, 3.0), 2.0));
-    assert_eq!(s.textures.len(), 1);
+    assert_eq!(s.textures().len(), 1);
     // `end//x` closes its block: the next header is not swallowed by it.
     assert_eq!(
         ok("primitive sphere\n R= 1\nend//x\nprimitive sphere\n R= 2\nend")
-            .objects
+            .objects()
             .len(),
         2
     );
@@ -681,12 +681,12 @@ fn columns_stay_right_before_glued_comments() {
 fn double_slashes_inside_file_paths_are_kept() {
     // Glued inside a path: part of it (`.//tiny.bmp` is `./tiny.bmp`).
     let s = ok("primitive sphere\n R= 1\n texture= .//tiny.bmp\nend");
-    assert_eq!(s.textures.len(), 1);
+    assert_eq!(s.textures().len(), 1);
     let s = ok("primitive mesh\n file=.//tri.obj\nend");
-    assert_eq!(s.objects.len(), 1);
+    assert_eq!(s.objects().len(), 1);
     // Followed by a blank or the end of the line: a comment.
     let s = ok("primitive sphere\n R= 1\n texture= tiny.bmp//\nend");
-    assert_eq!(s.textures.len(), 1);
+    assert_eq!(s.textures().len(), 1);
     // Glued on both sides, it stays in the path, which then names no file.
     let d = error_at("primitive sphere\n R= 1\n texture= tiny.bmp//x\nend", 3, 2);
     assert!(d.message.contains("`tiny.bmp//x` not found"), "{d}");
@@ -695,11 +695,11 @@ fn double_slashes_inside_file_paths_are_kept() {
 #[test]
 fn number_forms() {
     let s = ok("camera\n O= .5 -1e-3 +2\n lens_W= 1.\n lens_H= 5E-1\n image_W= 1e3\nend");
-    assert_eq!(s.camera.origin, v(0.5, -0.001, 2.0));
-    assert_eq!((s.camera.lens_w, s.camera.lens_h), (1.0, 0.5));
-    assert_eq!(s.camera.width, 1000);
+    assert_eq!(s.camera().origin, v(0.5, -0.001, 2.0));
+    assert_eq!((s.camera().lens_w, s.camera().lens_h), (1.0, 0.5));
+    assert_eq!(s.camera().width, 1000);
     let s = ok("primitive sphere\n O= -.25 +.75 -0\n R= 2.5e+0\nend");
-    let Shape::Sphere(sp) = &s.objects[0].shape else {
+    let Shape::Sphere(sp) = &s.objects()[0].shape else {
         panic!("not a sphere")
     };
     assert_eq!((sp.center, sp.radius), (v(-0.25, 0.75, 0.0), 2.5));
@@ -716,32 +716,35 @@ fn any_key_order_and_later_keys_override() {
     diff= 0.9
     color= 0 0 1
 end");
-    let Shape::Sphere(sp) = &s.objects[0].shape else {
+    let Shape::Sphere(sp) = &s.objects()[0].shape else {
         panic!("not a sphere")
     };
     assert_eq!((sp.center, sp.radius), (DVec3::ONE, 2.0));
     let m = s.material(0);
     assert_eq!((m.color, m.diff), (DVec3::Z, 0.9));
-    assert!(s.warnings.is_empty());
+    assert!(s.warnings().is_empty());
 }
 
 #[test]
 fn lenient_key_spacing() {
     let s = ok("camera\n O=1 2 3\n N = 0 0 1\n lens_W =2\n lens_H= 3\nend");
-    assert_eq!(s.camera.origin, v(1.0, 2.0, 3.0));
-    assert_eq!(s.camera.dir, DVec3::Z);
-    assert_eq!((s.camera.lens_w, s.camera.lens_h), (2.0, 3.0));
+    assert_eq!(s.camera().origin, v(1.0, 2.0, 3.0));
+    assert_eq!(s.camera().dir, DVec3::Z);
+    assert_eq!((s.camera().lens_w, s.camera().lens_h), (2.0, 3.0));
 }
 
 #[test]
 fn line_endings_tabs_blank_lines_and_no_final_newline() {
     let s = ok("\r\n\r\ncamera\r\n\tO=\t1 2 3\r\n\r\n\tlens_W= 2\r\nend");
-    assert_eq!((s.camera.origin, s.camera.lens_w), (v(1.0, 2.0, 3.0), 2.0));
+    assert_eq!(
+        (s.camera().origin, s.camera().lens_w),
+        (v(1.0, 2.0, 3.0), 2.0)
+    );
     // A lone CR also ends a line; an error's line number counts it.
     let d = error_at("camera\r O= 1 2\rend", 2, 2);
     assert!(d.message.contains("3 numbers"), "{d}");
     // A byte-order mark does not hide the first header.
-    assert_eq!(ok("\u{feff}camera\n lens_W= 2\nend").camera.lens_w, 2.0);
+    assert_eq!(ok("\u{feff}camera\n lens_W= 2\nend").camera().lens_w, 2.0);
 }
 
 // ---------------------------------------------------------------- errors
@@ -1030,7 +1033,7 @@ fn keys_a_block_does_not_use_warn() {
     // P= in a mesh: warnings, and the only errors (if any) come from loading the mesh.
     let text = "primitive mesh\n file= tri.obj\n P= 1 5\n P= 10 10\nend";
     let ws: Vec<Diagnostic> = match parse(text) {
-        Ok(s) => s.warnings,
+        Ok(s) => s.warnings().to_vec(),
         Err(e) => {
             assert!(e.errors().all(|d| d.line == 2), "{e}");
             e.diagnostics
@@ -1059,7 +1062,7 @@ fn refraction_without_index_uses_one() {
     // Without refraction the index does not matter.
     assert!(
         ok("primitive sphere\n R= 1\n rindex= 0\nend")
-            .warnings
+            .warnings()
             .is_empty()
     );
 }
@@ -1125,9 +1128,9 @@ fn file_names_appear_in_diagnostics() {
 fn textures_are_found_beside_the_scene_first_then_in_the_working_directory() {
     let s = ok("primitive sphere\n R= 1\n texture= tiny.bmp\nend");
     assert!(
-        s.notes.iter().any(|n| n.contains("scene file's folder")),
+        s.notes().iter().any(|n| n.contains("scene file's folder")),
         "{:?}",
-        s.notes
+        s.notes()
     );
     // Not beside the scene (the base folder does not exist): the working
     // directory, which is the project root under `cargo test`.
@@ -1136,11 +1139,11 @@ fn textures_are_found_beside_the_scene_first_then_in_the_working_directory() {
         "no/such/folder",
     )
     .unwrap();
-    assert_eq!(s.textures.len(), 1);
+    assert_eq!(s.textures().len(), 1);
     assert!(
-        s.notes.iter().any(|n| n.contains("working directory")),
+        s.notes().iter().any(|n| n.contains("working directory")),
         "{:?}",
-        s.notes
+        s.notes()
     );
 }
 
@@ -1149,7 +1152,7 @@ fn identical_texture_paths_are_decoded_once() {
     let s = ok("primitive sphere\n R= 1\n texture= tiny.bmp\nend
 primitive sphere\n R= 2\n texture= ./tiny.bmp\nend
 primitive plane\n N= 0 0 1\n texture= tiny.bmp\nend");
-    assert_eq!(s.textures.len(), 1);
+    assert_eq!(s.textures().len(), 1);
     assert!(s.materials().all(|m| m.texture == Some(0)));
 }
 
@@ -1164,9 +1167,9 @@ primitive mesh
     file= tri.obj
 end";
     let s = ok(text);
-    assert_eq!(s.objects.len(), 2);
-    assert_eq!(s.objects[1].block(), Some(1));
-    let Shape::Triangle(t) = &s.objects[1].shape else {
+    assert_eq!(s.objects().len(), 2);
+    assert_eq!(s.objects()[1].block(), Some(1));
+    let Shape::Triangle(t) = &s.objects()[1].shape else {
         panic!("not a triangle")
     };
     let mut corners = t.vertices.map(|p| p.to_array());
@@ -1222,11 +1225,17 @@ fn shared_scene_files_parse() {
                 Ok(s) => s,
                 Err(e) => panic!("{} does not parse:\n{e}", path.display()),
             };
-            assert!(!s.objects.is_empty(), "{}", path.display());
+            assert!(!s.objects().is_empty(), "{}", path.display());
             let name = path.file_name().unwrap().to_string_lossy();
             if let Some(&(_, n)) = known_warnings.iter().find(|(k, _)| *k == name) {
                 seen += 1;
-                assert_eq!(s.warnings.len(), n, "{}: {:#?}", path.display(), s.warnings);
+                assert_eq!(
+                    s.warnings().len(),
+                    n,
+                    "{}: {:#?}",
+                    path.display(),
+                    s.warnings()
+                );
             }
         }
     }
@@ -1236,32 +1245,32 @@ fn shared_scene_files_parse() {
 #[test]
 fn scene1_in_detail() {
     let s = Scene::from_file("../shared/scenes/framework/scene1.txt").unwrap();
-    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
-    assert_eq!(s.background, Background::Color(DVec3::splat(0.1)));
-    assert_eq!((s.camera.width, s.camera.height), (1280, 760));
-    assert_eq!((s.camera.lens_w, s.camera.lens_h), (1.0, 0.6));
-    assert!(close(s.camera.dir, v(0.6, 1.0, -0.6).normalize()));
-    assert_eq!(s.lights.len(), 1);
-    assert_eq!(s.objects.len(), 6);
-    assert_eq!(s.textures.len(), 2);
-    let blocks: Vec<_> = s.objects.iter().map(|o| o.block().unwrap()).collect();
+    assert!(s.warnings().is_empty(), "{:?}", s.warnings());
+    assert_eq!(s.background(), Background::Color(DVec3::splat(0.1)));
+    assert_eq!((s.camera().width, s.camera().height), (1280, 760));
+    assert_eq!((s.camera().lens_w, s.camera().lens_h), (1.0, 0.6));
+    assert!(close(s.camera().dir, v(0.6, 1.0, -0.6).normalize()));
+    assert_eq!(s.lights().len(), 1);
+    assert_eq!(s.objects().len(), 6);
+    assert_eq!(s.textures().len(), 2);
+    let blocks: Vec<_> = s.objects().iter().map(|o| o.block().unwrap()).collect();
     assert_eq!(blocks, vec![0, 1, 2, 3, 4, 5]);
-    let glass = s.material(s.objects[0].material);
+    let glass = s.material_of(&s.objects()[0]);
     assert_eq!(
         (glass.refr, glass.rindex, glass.absor),
         (1.0, 1.7, DVec3::Z)
     );
-    let floor = s.material(s.objects[4].material);
+    let floor = s.material_of(&s.objects()[4]);
     assert!(floor.texture.is_some());
-    assert!(s.notes.iter().any(|n| n.contains("floor.bmp")));
+    assert!(s.notes().iter().any(|n| n.contains("floor.bmp")));
 }
 
 #[test]
 fn scene_stacks_bezier() {
     let s = Scene::from_file("../shared/scenes/community/scene_stacks.txt").unwrap();
-    assert!(matches!(s.background, Background::Gradient { .. }));
+    assert!(matches!(s.background(), Background::Gradient { .. }));
     let Some(Shape::Bezier(b)) = s
-        .objects
+        .objects()
         .iter()
         .map(|o| &o.shape)
         .find(|s| matches!(s, Shape::Bezier(_)))
@@ -1269,7 +1278,7 @@ fn scene_stacks_bezier() {
         panic!("no bezier");
     };
     assert_eq!(b.points.len(), 4);
-    let m = s.material(s.objects.last().unwrap().material);
+    let m = s.material_of(s.objects().last().unwrap());
     // `refl=` appears twice; the later 0 wins.
     assert_eq!(m.refl, 0.0);
 }
@@ -1288,10 +1297,10 @@ fn a_large_scene_parses() {
     }
     assert!(text.len() > 1_000_000);
     let s = ok(&text);
-    assert_eq!(s.objects.len(), n);
-    assert_eq!(s.objects[n - 1].block(), Some(n as u32 - 1));
-    assert_eq!(s.warnings.len(), n);
-    assert_eq!(s.warnings[n - 1].line, 4 + 6 * (n - 1) + 4);
+    assert_eq!(s.objects().len(), n);
+    assert_eq!(s.objects()[n - 1].block(), Some(n as u32 - 1));
+    assert_eq!(s.warnings().len(), n);
+    assert_eq!(s.warnings()[n - 1].line, 4 + 6 * (n - 1) + 4);
 }
 
 // ---------------------------------------------------------------- fuzzing
@@ -1401,7 +1410,7 @@ primitive mesh\n file= nowhere.obj\n O= 0 0 0\n scale= 1\n rotation= 0 0 0\nend
 /// Parses `text` and checks the result is well-formed (no panic is the main point).
 fn check_well_formed(text: &str, base: &str) {
     match Scene::parse(text, base) {
-        Ok(s) => assert!(s.warnings.iter().all(|d| d.severity == Severity::Warning)),
+        Ok(s) => assert!(s.warnings().iter().all(|d| d.severity == Severity::Warning)),
         Err(e) => {
             assert!(e.errors().count() > 0);
             // `\r` alone also ends a line, so count both kinds of break.
@@ -1453,12 +1462,12 @@ fn sample_counts_far_above_the_default_warn_at_the_key() {
     // 64 (1024 rays) is the last value without a warning.
     for key in ["shade_quality", "drefl_quality"] {
         let s = ok(&format!("camera\n {key}= 64\nend"));
-        assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+        assert!(s.warnings().is_empty(), "{:?}", s.warnings());
         let d = warning_at(&format!("camera\n O= 0 0 0\n  {key}= 65\nend"), 3, 3);
         assert!(d.message.contains("1040") && d.message.contains(key), "{d}");
         let d = warning_at(&format!("camera\n {key}= 1000000\nend"), 2, 2);
         assert!(d.message.contains("16000000"), "{d}");
     }
     let s = ok("camera\n shade_quality= 65\nend");
-    assert_eq!(s.camera.shade_quality, 65, "the value is kept");
+    assert_eq!(s.camera().shade_quality, 65, "the value is kept");
 }

@@ -4,13 +4,13 @@
 //! plane solves for flat shapes, and for the solids a root search on their
 //! convex implicit functions (golden-section minimum + bisection).
 
-mod common;
-
-use common::{box_faces, dist_to_segment, point_in, rotation, solve_plane};
+use super::common::{box_faces, dist_to_segment, point_in, rotation, solve_plane};
+use crate::Scene;
+use crate::accel::Accel;
+use crate::format::load_obj;
+use crate::geometry::*;
+use crate::scene::Object;
 use glam::{DMat3, DVec2, DVec3};
-use glint::Scene;
-use glint::accel::Accel;
-use glint::geometry::*;
 use proptest::prelude::*;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
@@ -192,7 +192,7 @@ fn shoot_at_box_edges(
         } else {
             rng.random_range(-0.999..0.999)
         };
-        let mut target = common::box_edge_point(c, rot, h, (i, si), (j, sj), lambda);
+        let mut target = super::common::box_edge_point(c, rot, h, (i, si), (j, sj), lambda);
         // Slide a hair onto face j (still on the closed box): 0 or 1e-16 .. 1e-10 of the size.
         if n % 3 == 2 {
             let eps = size * 10f64.powf(rng.random_range(-16.0..-10.0));
@@ -266,7 +266,7 @@ fn random_edge_point(rng: &mut Pcg64, c: DVec3, rot: DMat3, h: DVec3, m: usize) 
         1 => 0.0,
         _ => rng.random_range(-1.0..1.0),
     };
-    let mut p = common::box_edge_point(c, rot, h, (i, si), (j, sj), lambda);
+    let mut p = super::common::box_edge_point(c, rot, h, (i, si), (j, sj), lambda);
     if m % 3 == 2 {
         let eps = h.max_element() * 10f64.powf(rng.random_range(-16.0..-10.0));
         p -= if rng.random::<bool>() {
@@ -288,9 +288,9 @@ fn random_edge_point(rng: &mut Pcg64, c: DVec3, rot: DMat3, h: DVec3, m: usize) 
 fn six_square_box_scene_leaks_no_light_through_edges_or_corners() {
     let mut rng = Pcg64::seed_from_u64(51);
     for (c, rot, h) in square_box_configs() {
-        let scene = Scene::parse(&common::box_of_squares_text(c, rot, h), ".").unwrap();
-        assert_eq!(scene.objects.len(), 6);
-        let accel = Accel::build(&scene.objects);
+        let scene = Scene::parse(&super::common::box_of_squares_text(c, rot, h), ".").unwrap();
+        assert_eq!(scene.objects().len(), 6);
+        let accel = Accel::build(scene.objects().to_vec());
         let size = h.max_element();
         let scale = c.abs().max_element() + size;
         for m in 0..6000 {
@@ -343,13 +343,13 @@ fn six_square_box_scene_leaks_no_light_through_edges_or_corners() {
 fn six_square_box_edge_hits_do_not_double_hit() {
     let mut rng = Pcg64::seed_from_u64(53);
     for (c, rot, h) in square_box_configs() {
-        let scene = Scene::parse(&common::box_of_squares_text(c, rot, h), ".").unwrap();
-        let accel = Accel::build(&scene.objects);
+        let scene = Scene::parse(&super::common::box_of_squares_text(c, rot, h), ".").unwrap();
+        let accel = Accel::build(scene.objects().to_vec());
         // The nearest hit: distance, point, and the normal facing the ray
         // (squares are two-sided; the renderer nudges along this one).
         let first = |r: &Ray| {
             let (i, hit) = accel.intersect(r, INF)?;
-            let sp = scene.objects[i as usize].shape.surface(r, &hit);
+            let sp = scene.objects()[i as usize].shape.surface(r, &hit);
             let side = if sp.normal.dot(r.dir) < 0.0 {
                 sp.normal
             } else {
@@ -381,7 +381,7 @@ fn six_square_box_edge_hits_do_not_double_hit() {
             assert_close(t, dist, 1e-9 * (scale + dist));
             // Straight on, into the box.
             let next = Ray::off_surface(offset_origin(point, -side), d);
-            let (exit, cos) = common::box_exit(c, rot, h, next.origin, d);
+            let (exit, cos) = super::common::box_exit(c, rot, h, next.origin, d);
             let (t2, ..) = first(&next)
                 .unwrap_or_else(|| panic!("no exit after entering at {target}: {next:?}"));
             assert!(
@@ -1639,7 +1639,7 @@ fn mesh_triangles_stay_compact() {
 fn cube_edges_and_cylinder_rims_do_not_double_hit() {
     let mut rng = Pcg64::seed_from_u64(57);
     // Continues the first hit of `r` straight on; returns (t, exit reference check).
-    let continued = |accel: &Accel, objects: &[glint::scene::Object], r: &Ray| {
+    let continued = |accel: &Accel<Object>, objects: &[crate::scene::Object], r: &Ray| {
         let (i, hit) = accel.intersect(r, INF)?;
         let sp = objects[i as usize].shape.surface(r, &hit);
         let side = if sp.normal.dot(r.dir) < 0.0 {
@@ -1654,15 +1654,15 @@ fn cube_edges_and_cylinder_rims_do_not_double_hit() {
     for (c, rot, h) in square_box_configs() {
         let text = format!(
             "primitive cube\n O= {}\n Dx= {}\n Dy= {}\n x= {:?}\n y= {:?}\n z= {:?}\nend\n",
-            common::scene_vec(c),
-            common::scene_vec(rot.col(0)),
-            common::scene_vec(rot.col(1)),
+            super::common::scene_vec(c),
+            super::common::scene_vec(rot.col(0)),
+            super::common::scene_vec(rot.col(1)),
             h.x,
             h.y,
             h.z
         );
         let scene = Scene::parse(&text, ".").unwrap();
-        let accel = Accel::build(&scene.objects);
+        let accel = Accel::build(scene.objects().to_vec());
         let scale = c.abs().max_element() + h.max_element();
         for m in 0..2000 {
             let i = rng.random_range(0..3usize);
@@ -1673,7 +1673,7 @@ fn cube_edges_and_cylinder_rims_do_not_double_hit() {
             } else {
                 rng.random_range(-1.0..1.0)
             };
-            let target = common::box_edge_point(c, rot, h, (i, si), (j, sj), lambda);
+            let target = super::common::box_edge_point(c, rot, h, (i, si), (j, sj), lambda);
             // Outside both faces of the edge (all three at a corner): the ray
             // enters through it.
             let k = 3 - i - j;
@@ -1687,9 +1687,9 @@ fn cube_edges_and_cylinder_rims_do_not_double_hit() {
                 + rot.col(k) * along)
                 .normalize();
             let r = Ray::new(target + out * (h.max_element() * 3.0), -out);
-            let (next, t2) = continued(&accel, &scene.objects, &r)
+            let (next, t2) = continued(&accel, scene.objects(), &r)
                 .unwrap_or_else(|| panic!("no exit after entering the cube at {target}"));
-            let (exit, cos) = common::box_exit(c, rot, h, next.origin, next.dir);
+            let (exit, cos) = super::common::box_exit(c, rot, h, next.origin, next.dir);
             assert!(
                 (t2 - exit).abs() <= 1e-9 * scale / cos,
                 "cube: entering at {target}, went on {next:?}, hit t={t2:e}, exit at {exit}"
@@ -1704,14 +1704,14 @@ fn cube_edges_and_cylinder_rims_do_not_double_hit() {
     for (o1, o2, radius) in cylinders {
         let text = format!(
             "primitive cylinder\n O1= {}\n O2= {}\n R= {radius:?}\nend\n",
-            common::scene_vec(o1),
-            common::scene_vec(o2)
+            super::common::scene_vec(o1),
+            super::common::scene_vec(o2)
         );
         let scene = Scene::parse(&text, ".").unwrap();
-        let accel = Accel::build(&scene.objects);
+        let accel = Accel::build(scene.objects().to_vec());
         let axis = (o2 - o1).normalize();
         let length = (o2 - o1).length();
-        let (e1, e2) = glint::shading::perpendiculars(axis);
+        let (e1, e2) = crate::geometry::perpendiculars(axis);
         let scale = o1.abs().max(o2.abs()).max_element() + length + radius;
         for m in 0..2000 {
             let phi = rng.random_range(0.0..TAU);
@@ -1725,7 +1725,7 @@ fn cube_edges_and_cylinder_rims_do_not_double_hit() {
                 + tangent * rng.random_range(-0.5..0.5))
             .normalize();
             let r = Ray::new(target + out * (length + radius) * 3.0, -out);
-            let (next, t2) = continued(&accel, &scene.objects, &r)
+            let (next, t2) = continued(&accel, scene.objects(), &r)
                 .unwrap_or_else(|| panic!("no exit after entering the cylinder at {target}"));
             // Exit from inside: the cap plane ahead, or the side's far root.
             let (s, d) = (next.origin - o1, next.dir);

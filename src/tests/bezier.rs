@@ -3,15 +3,23 @@
 //! paraboloid), a dense scan of the exact two-equation system in the curve
 //! parameter with bisection, and a fine triangle tessellation.
 
+use crate::geometry::{Bezier, Ray, SurfacePoint, offset_origin};
 use glam::{DVec2, DVec3};
-use glint::geometry::{Bezier, Ray, SurfacePoint, offset_origin};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
 use std::f64::consts::TAU;
 
-mod common;
+use super::common::bezier::{GRAZING, Model, RefHit, casteljau, scan_roots};
 
-use common::bezier::{GRAZING, Model, RefHit, casteljau, scan_roots};
+/// glint's surface for the model's axis and profile.
+fn surface_of(m: &Model) -> Bezier {
+    let pts =
+        m.z.iter()
+            .zip(&m.r)
+            .map(|(&z, &r)| DVec2::new(z, r))
+            .collect();
+    Bezier::new(m.o1, m.o2, pts)
+}
 
 /// Checks `intersect` on one ray against the reference hits `refs`:
 /// a reported hit lies on the surface circle of its s (1e-9 relative; s is
@@ -19,7 +27,7 @@ use common::bezier::{GRAZING, Model, RefHit, casteljau, scan_roots};
 /// and no clear (non-grazing, not on the rim) reference hit is nearer; no
 /// hit is reported only if the reference has no clear hit.
 fn check(model: &Model, ray: &Ray, t_min: f64, t_max: f64, refs: &[RefHit]) -> Result<(), String> {
-    let shape = model.shape();
+    let shape = surface_of(model);
     let span = model.scale + (ray.origin - model.o1).length();
     let tol = 1e-7 * span;
     let mine = shape.intersect(ray, t_min, t_max);
@@ -78,7 +86,7 @@ fn quadratic(a: f64, b: f64, c: f64) -> Vec<f64> {
 
 /// The ray in the axis frame of `m`: (pa, da, A, B, C).
 fn axis_coords(m: &Model, ray: &Ray) -> (f64, f64, f64, f64, f64) {
-    let (pa, da, pp, dp) = m.split(ray);
+    let (pa, da, pp, dp) = m.split(ray.origin, ray.dir);
     (pa, da, dp.length_squared(), pp.dot(dp), pp.length_squared())
 }
 
@@ -203,7 +211,7 @@ impl Lcg {
 /// Compares every ray of `rays` with the closed form `hits`, exactly:
 /// t to 1e-9 relative, s, and the outward normal.
 fn closed_form_check(m: &Model, rays: &[Ray], hits: impl Fn(&Ray) -> Vec<RefHit>) {
-    let shape = m.shape();
+    let shape = surface_of(m);
     let mut compared = 0;
     for ray in rays {
         let refs = hits(ray);
@@ -303,7 +311,7 @@ fn apex_rays_check(m: &Model, h: f64, r0: f64, r1: f64, count: usize) {
     let apex = m.o1 + m.a * h * r0 / (r0 - r1);
     let cos_half_angle = h / h.hypot(r1 - r0);
     let mut rng = Lcg(9);
-    let shape = m.shape();
+    let shape = surface_of(m);
     for _ in 0..count {
         let dir = rng.unit();
         let dist = 0.5 + 3.0 * rng.next();
@@ -383,7 +391,7 @@ fn near_perpendicular_rays_have_no_gap() {
                 DVec3::Z,
                 &[(0.0, 1.0), (4.0, 1.2), (5.0, 3.0), (1.0, 2.5)],
             ),
-            Box::new(|m, r| m.scan(r, 8000)),
+            Box::new(|m, r| m.scan(r.origin, r.dir, 8000)),
         ),
     ];
     let mut rng = Lcg(4);
@@ -402,7 +410,7 @@ fn near_perpendicular_rays_have_no_gap() {
                     check(m, &ray, 0.0, f64::INFINITY, &hits(m, &ray))
                         .unwrap_or_else(|e| panic!("eps {eps:e} {ray:?}: {e}"));
                     // Rays aimed straight at a surface point hit something by t ≈ 6.
-                    let h = m.shape().intersect(&ray, 0.0, f64::INFINITY);
+                    let h = surface_of(m).intersect(&ray, 0.0, f64::INFINITY);
                     let clear = hits(m, &ray)
                         .iter()
                         .any(|h| (h.t - 6.0).abs() < 1e-6 && h.cos > GRAZING);
@@ -479,8 +487,14 @@ fn tangent_rays() {
                 ),
             ];
             for (m, ray) in cases {
-                check(m, &ray, 0.0, f64::INFINITY, &m.scan(&ray, 20000))
-                    .unwrap_or_else(|e| panic!("eps {eps:e} {ray:?}: {e}"));
+                check(
+                    m,
+                    &ray,
+                    0.0,
+                    f64::INFINITY,
+                    &m.scan(ray.origin, ray.dir, 20000),
+                )
+                .unwrap_or_else(|e| panic!("eps {eps:e} {ray:?}: {e}"));
             }
         }
     }
@@ -512,7 +526,7 @@ fn axis_apex_check(count: usize, seed: u64, degree_of: impl Fn(usize) -> usize) 
         for dir in [m.a, -m.a] {
             let ray = Ray::new(apex - dir * (1.0 + 10.0 * rng.next()), dir);
             let want = (apex - ray.origin).dot(dir);
-            let h = m.shape().intersect(&ray, 0.0, f64::INFINITY);
+            let h = surface_of(&m).intersect(&ray, 0.0, f64::INFINITY);
             // Only the nearest apex on the ray counts; skip rays that meet
             // another (where r has several zeros) first.
             let first = zeros
@@ -539,7 +553,7 @@ fn axis_apex_check(count: usize, seed: u64, degree_of: impl Fn(usize) -> usize) 
 fn rays_along_the_axis() {
     // Paraboloid: a ray up the axis at offset ρ meets it at height h·ρ²/R².
     let m = Model::new(DVec3::ZERO, DVec3::Z, &[(0.0, 0.0), (0.0, 1.0), (2.5, 2.0)]);
-    let shape = m.shape();
+    let shape = surface_of(&m);
     for rho in [0.0, 1e-300, 1e-12, 1e-6, 0.3, 1.0, 1.9] {
         let ray = Ray::new(DVec3::new(rho, 0.0, -1.0), DVec3::Z);
         let h = shape.intersect(&ray, 0.0, f64::INFINITY).expect("hit");
@@ -561,7 +575,7 @@ fn rays_along_the_axis() {
     }
     // An hourglass (r from 1 to −1): up the axis through the apex at height 1.
     let m = Model::new(DVec3::ZERO, DVec3::Z, &[(0.0, 1.0), (2.0, -1.0)]);
-    let shape = m.shape();
+    let shape = surface_of(&m);
     for rho in [0.0, 1e-15, 1e-9, 0.5] {
         let ray = Ray::new(DVec3::new(0.0, rho, -1.0), DVec3::Z);
         let h = shape.intersect(&ray, 0.0, f64::INFINITY).expect("hit");
@@ -575,7 +589,7 @@ fn rays_along_the_axis() {
     for x in [0.0, 0.5, 0.999, 1.001, 3.0] {
         let ray = Ray::new(DVec3::new(x, 0.0, -1.0), DVec3::Z);
         assert!(
-            m.shape().intersect(&ray, 0.0, f64::INFINITY).is_none(),
+            surface_of(&m).intersect(&ray, 0.0, f64::INFINITY).is_none(),
             "x {x}"
         );
     }
@@ -697,14 +711,14 @@ prop_compose! {
 
 /// [`check`] over the whole ray against the scan reference (4000 steps), which it returns.
 fn scan_check(m: &Model, ray: &Ray) -> Result<Vec<RefHit>, TestCaseError> {
-    let refs = m.scan(ray, 4000);
+    let refs = m.scan(ray.origin, ray.dir, 4000);
     check(m, ray, 0.0, f64::INFINITY, &refs).map_err(TestCaseError::fail)?;
     Ok(refs)
 }
 
 /// [`check`] in the window (w0, w1 as fractions of the farthest reference hit, at least 1) against the scan reference.
 fn window_check(m: &Model, ray: &Ray, w0: f64, w1: f64) -> Result<(), TestCaseError> {
-    let refs = m.scan(ray, 4000);
+    let refs = m.scan(ray.origin, ray.dir, 4000);
     let far = refs.iter().map(|h| h.t).fold(1.0, f64::max);
     let (t_min, t_max) = (w0.min(w1) * far, w0.max(w1) * far * 1.1);
     check(m, ray, t_min, t_max, &refs).map_err(TestCaseError::fail)
@@ -769,9 +783,9 @@ proptest! {
         for r in &mut neg.r {
             *r = -*r;
         }
-        let (a, b) = (m.shape(), neg.shape());
+        let (a, b) = (surface_of(&m), surface_of(&neg));
         let (ha, hb) = (a.intersect(&ray, 0.0, f64::INFINITY), b.intersect(&ray, 0.0, f64::INFINITY));
-        let refs = m.scan(&ray, 4000);
+        let refs = m.scan(ray.origin, ray.dir, 4000);
         check(&neg, &ray, 0.0, f64::INFINITY, &refs).map_err(TestCaseError::fail)?;
         if let (Some(ha), Some(hb)) = (ha, hb) {
             let span = m.scale + (ray.origin - m.o1).length();
@@ -787,7 +801,7 @@ proptest! {
 
 /// Checks the hit's unit normal against the model where it is well defined, and uv.x = s; returns the hit's surface point.
 fn check_normal(m: &Model, ray: &Ray) -> Result<Option<SurfacePoint>, TestCaseError> {
-    let shape = m.shape();
+    let shape = surface_of(m);
     let Some(h) = shape.intersect(ray, 0.0, f64::INFINITY) else {
         return Ok(None);
     };
@@ -836,7 +850,7 @@ proptest! {
     /// The box holds every point of the surface and touches its extremes.
     #[test]
     fn bounds_are_tight((m, _ray, _kind) in arb_case()) {
-        let b = m.shape().bounds();
+        let b = surface_of(&m).bounds();
         let mut lo = DVec3::splat(f64::INFINITY);
         let mut hi = DVec3::splat(f64::NEG_INFINITY);
         for i in 0..=400 {
@@ -861,7 +875,7 @@ proptest! {
     /// surface the renderer's way) do not hit the same spot again.
     #[test]
     fn secondary_rays_do_not_rehit((m, ray, _kind) in arb_case()) {
-        let shape = m.shape();
+        let shape = surface_of(&m);
         let Some(h) = shape.intersect(&ray, 0.0, f64::INFINITY) else { return Ok(()) };
         let sp = shape.surface(&ray, &h);
         let cos = sp.normal.dot(ray.dir);
@@ -1143,7 +1157,7 @@ fn high_degree_tessellation_agrees() {
 /// for `rays` rays aimed near random surface points.
 fn tessellation_check(m: &Model, ns: usize, nphi: usize, rays: usize) {
     let tris = tessellate(m, ns, nphi);
-    let shape = m.shape();
+    let shape = surface_of(m);
     let mut rng = Lcg(5);
     let mut compared = 0;
     for _ in 0..rays {
@@ -1194,7 +1208,7 @@ fn closed_profile_has_consistent_front() {
         DVec3::new(0.5, 0.0, 1.0),
         &[(0.0, 0.0), (0.0, 2.0), (2.0, 2.5), (3.0, 1.0), (3.0, 0.0)],
     );
-    let shape = m.shape();
+    let shape = surface_of(&m);
     // Inside iff ρ < r(s) where z(s) = h (z is monotone here).
     let inside = |p: DVec3| {
         let (h, rho) = m.axial(p);

@@ -1,170 +1,25 @@
-//! The scene-file parser: splits the file into blocks (`background`,
+//! The scene-file reader: splits the file into blocks (`background`,
 //! `camera`, `light TYPE`, `primitive TYPE` ... `end`), reads each block's
-//! `key= values` lines and hands them to [`super::build`], collecting every
+//! `key= values` lines and hands them to the [`Builder`], collecting every
 //! error and warning with the place in the file it is about.
 
-use super::build::{BlockKind, Builder, Entry, LIGHT_TYPES, PRIMITIVE_TYPES};
+use super::builder::Builder;
+use super::diags::{Checkpoint, Diags, Site};
 use super::lexer::{self, Line, Word};
+use super::schema::{self, BlockKind, LIGHTS, PRIMITIVES};
 use super::suggest::closest;
-use super::{Diagnostic, Scene, SceneError, Severity};
+use super::values::Entry;
+use crate::scene::{Diagnostic, Scene, SceneError, Severity};
 use std::io::Read;
 use std::path::Path;
 
 /// The words that open a block.
 const HEADERS: [&str; 4] = ["background", "camera", "light", "primitive"];
 
-/// A place in the file: 0-based line index, 1-based column, width (chars).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) struct Site {
-    /// 0-based index into the file's lines.
-    pub line: usize,
-    /// 1-based column in characters.
-    pub col: usize,
-    /// Width in characters.
-    pub len: usize,
-}
-
-impl Site {
-    /// The site of one word.
-    pub fn word(line: usize, w: &Word<'_>) -> Site {
-        Site {
-            line,
-            col: w.col,
-            len: w.len.max(1),
-        }
-    }
-
-    /// From the start of `a` to the end of `b` (same line).
-    pub fn span(line: usize, a: &Word<'_>, b: &Word<'_>) -> Site {
-        Site {
-            line,
-            col: a.col,
-            len: (b.col + b.len).saturating_sub(a.col).max(1),
-        }
-    }
-
-    /// The column just after `w` (where a missing word was expected).
-    pub fn after(line: usize, w: &Word<'_>) -> Site {
-        Site {
-            line,
-            col: w.col + w.len + 1,
-            len: 1,
-        }
-    }
-}
-
-/// How many diagnostics and errors [`Diags`] held at some point.
-#[derive(Clone, Copy, Default)]
-struct Checkpoint {
-    diags: usize,
-    errors: usize,
-}
-
-/// Collects diagnostics, turning [`Site`]s into file/line/column/excerpt.
-/// The excerpts (`source_line`) are filled from each piece of text once it
-/// has been read, so reading keeps nothing per line of the file.
-pub(crate) struct Diags {
-    file: String,
-    out: Vec<Diagnostic>,
-    errors: usize,
-}
-
-impl Diags {
-    fn new(file: String) -> Self {
-        Diags {
-            file,
-            out: Vec::new(),
-            errors: 0,
-        }
-    }
-
-    fn push(&mut self, severity: Severity, site: Site, message: String, help: Option<String>) {
-        let source_line = String::new();
-        if severity == Severity::Error {
-            self.errors += 1;
-        }
-        self.out.push(Diagnostic {
-            severity,
-            message,
-            file: self.file.clone(),
-            line: site.line + 1,
-            column: site.col.max(1),
-            len: site.len.max(1),
-            source_line,
-            help,
-        });
-    }
-
-    /// Records an error (the scene will not render).
-    pub fn error(&mut self, site: Site, message: impl Into<String>, help: Option<String>) {
-        self.push(Severity::Error, site, message.into(), help);
-    }
-
-    /// Records a warning (the scene still renders).
-    pub fn warn(&mut self, site: Site, message: impl Into<String>, help: Option<String>) {
-        self.push(Severity::Warning, site, message.into(), help);
-    }
-
-    /// Number of errors so far.
-    pub fn error_count(&self) -> usize {
-        self.errors
-    }
-
-    /// What has been recorded so far, to go back to with [`Diags::rollback`].
-    fn checkpoint(&self) -> Checkpoint {
-        Checkpoint {
-            diags: self.out.len(),
-            errors: self.errors,
-        }
-    }
-
-    /// Forgets everything recorded since `cp`.
-    fn rollback(&mut self, cp: Checkpoint) {
-        self.out.truncate(cp.diags);
-        self.errors = cp.errors;
-    }
-
-    /// Fills the excerpts of the diagnostics from the `from`-th on, all about
-    /// lines of `text`, whose first line is the file's 0-based line `first_line`.
-    fn fill_source_lines(&mut self, from: usize, text: &str, first_line: usize) {
-        let Some(fresh) = self.out.get_mut(from..) else {
-            return;
-        };
-        if fresh.is_empty() {
-            return;
-        }
-        let mut order: Vec<(usize, usize)> =
-            fresh.iter().enumerate().map(|(k, d)| (d.line, k)).collect();
-        order.sort_unstable();
-        let mut next = order.iter().peekable();
-        for (k, line) in lexer::split_lines(text).enumerate() {
-            let number = first_line + k + 1;
-            while let Some(&(at, d)) = next.next_if(|(at, _)| *at <= number) {
-                if at == number
-                    && let Some(d) = fresh.get_mut(d)
-                {
-                    d.source_line = line.to_string();
-                }
-            }
-            if next.peek().is_none() {
-                break;
-            }
-        }
-    }
-
-    /// The diagnostics in file order.
-    fn into_sorted(self) -> Vec<Diagnostic> {
-        let mut all = self.out;
-        // Stable: diagnostics found at the same place keep the order they were found in.
-        all.sort_by_key(|d| (d.line, d.column));
-        all
-    }
-}
-
 /// How much of a scene file is read at a time.
 const CHUNK: usize = 1 << 20;
 
-pub(super) fn parse_file(path: &Path) -> Result<Scene, SceneError> {
+pub(crate) fn parse_file(path: &Path) -> Result<Scene, SceneError> {
     let file = std::fs::File::open(path).map_err(|e| read_error(path, &e))?;
     let dir = path.parent().unwrap_or(Path::new("."));
     parse_chunked(file, path, dir, CHUNK)
@@ -248,7 +103,7 @@ fn parse_chunked(
     reader.finish()
 }
 
-pub(super) fn parse_str(text: &str, path: Option<&Path>, base: &Path) -> Result<Scene, SceneError> {
+pub(crate) fn parse_str(text: &str, path: Option<&Path>, base: &Path) -> Result<Scene, SceneError> {
     let mut reader = Reader::new(path, base);
     reader.feed(lexer::strip_bom(text), true);
     reader.finish()
@@ -312,7 +167,7 @@ impl<'p> Reader<'p> {
     /// begins, to be fed again in front of the next piece; `text.len()` if none.
     fn feed(&mut self, text: &str, last: bool) -> usize {
         let first_line = self.line;
-        let first_diag = self.diags.out.len();
+        let first_diag = self.diags.count();
         let mut lines = 0;
         let mut open: Option<Open<'_>> = None;
         let mut spare = Spare::default();
@@ -421,7 +276,7 @@ impl<'p> Reader<'p> {
         if errors > 0 {
             return Err(SceneError { diagnostics: all });
         }
-        scene.warnings = all;
+        scene.set_warnings(all);
         Ok(scene)
     }
 }
@@ -438,21 +293,17 @@ fn header<'a>(
 ) -> Option<Open<'a>> {
     let first = line.words.first()?;
     let (kind, used) = match first.text {
-        "background" => (Some(BlockKind::Background), 1),
-        "camera" => (Some(BlockKind::Camera), 1),
+        "background" => (Some(&schema::BACKGROUND), 1),
+        "camera" => (Some(&schema::CAMERA), 1),
         "light" | "primitive" => {
             let is_light = first.text == "light";
-            let types: &[&str] = if is_light {
-                &LIGHT_TYPES
-            } else {
-                &PRIMITIVE_TYPES
-            };
+            let rows: &'static [schema::Row] = if is_light { &LIGHTS } else { &PRIMITIVES };
+
             let what = first.text;
             // Only for error messages: built when one is reported.
             let list = || {
-                types
-                    .iter()
-                    .map(|t| format!("`{t}`"))
+                rows.iter()
+                    .map(|r| format!("`{}`", r.name))
                     .collect::<Vec<_>>()
                     .join(", ")
             };
@@ -466,13 +317,9 @@ fn header<'a>(
                     (None, 1)
                 }
                 Some(t) => {
-                    let kind = if is_light {
-                        BlockKind::light(t.text)
-                    } else {
-                        BlockKind::primitive(t.text)
-                    };
+                    let kind = schema::find(rows, t.text);
                     if kind.is_none() {
-                        let help = match closest(t.text, types) {
+                        let help = match closest(t.text, &schema::names(rows)) {
                             Some(s) => format!("did you mean `{s}`?"),
                             None => format!("the {what} types are {}", list()),
                         };
@@ -569,7 +416,7 @@ fn bare_word(kind: BlockKind, i: usize, line: &Line<'_, '_>, diags: &mut Diags) 
     let last = line.words.last().unwrap_or(first);
     if first.text == "Cylinder" {
         // The framework's bezier needs it to build its bounds; glint does not.
-        if kind == BlockKind::Primitive(super::build::PrimitiveType::Bezier) {
+        if kind.title == "primitive bezier" {
             if let Some(extra) = line.words.get(1) {
                 diags.warn(
                     Site::span(i, extra, last),
@@ -582,7 +429,7 @@ fn bare_word(kind: BlockKind, i: usize, line: &Line<'_, '_>, diags: &mut Diags) 
                 Site::word(i, first),
                 format!(
                     "`Cylinder` only means something in a `primitive bezier` block; ignored in a `{}` block",
-                    kind.name()
+                    kind.title
                 ),
                 None,
             );
@@ -611,8 +458,7 @@ fn bare_word(kind: BlockKind, i: usize, line: &Line<'_, '_>, diags: &mut Diags) 
         Site::span(i, first, last),
         format!(
             "expected `key= values` or `end` in a `{}` block, found `{}`",
-            kind.name(),
-            first.text
+            kind.title, first.text
         ),
         help,
     );
@@ -656,19 +502,19 @@ mod tests {
         match (a, b) {
             (Ok(a), Ok(b)) => {
                 let fields = [
-                    ("path", a.path == b.path),
-                    ("camera", a.camera == b.camera),
-                    ("background", a.background == b.background),
+                    ("path", a.path() == b.path()),
+                    ("camera", a.camera() == b.camera()),
+                    ("background", a.background() == b.background()),
                     ("materials", a.materials().eq(b.materials())),
-                    ("textures", a.textures == b.textures),
-                    ("lights", a.lights == b.lights),
+                    ("textures", a.textures() == b.textures()),
+                    ("lights", a.lights() == b.lights()),
                     // Objects have no `PartialEq`; `Debug` prints every float exactly.
                     (
                         "objects",
-                        format!("{:?}", a.objects) == format!("{:?}", b.objects),
+                        format!("{:?}", a.objects()) == format!("{:?}", b.objects()),
                     ),
-                    ("warnings", a.warnings == b.warnings),
-                    ("notes", a.notes == b.notes),
+                    ("warnings", a.warnings() == b.warnings()),
+                    ("notes", a.notes() == b.notes()),
                 ];
                 let (name, _) = fields.iter().find(|(_, same)| !same)?;
                 Some(format!("the scenes' {name} differ"))
@@ -781,7 +627,7 @@ mod tests {
     /// The diagnostics of a parse, errors and warnings alike.
     fn diags_of(r: &Result<Scene, SceneError>) -> &[Diagnostic] {
         match r {
-            Ok(s) => &s.warnings,
+            Ok(s) => s.warnings(),
             Err(e) => &e.diagnostics,
         }
     }
@@ -874,8 +720,8 @@ primitive sphere
     #[test]
     fn blocks_split_across_chunks() -> Result<(), SceneError> {
         let s = same_in_chunks("warned", WARNED.as_bytes())?;
-        assert_eq!(s.objects.len(), 4);
-        assert_eq!(s.warnings.len(), 5, "{:#?}", s.warnings);
+        assert_eq!(s.objects().len(), 4);
+        assert_eq!(s.warnings().len(), 5, "{:#?}", s.warnings());
         let e = same_in_chunks("broken", BROKEN.as_bytes()).unwrap_err();
         assert!(e.diagnostics.len() >= 8, "{:#?}", e.diagnostics);
         // The block without `end` at the end of the file: its header.
@@ -912,7 +758,7 @@ primitive sphere
         let bom = format!("\u{feff}{WARNED}");
         let with = same_in_chunks("BOM", bom.as_bytes())?;
         assert!(
-            with.warnings
+            with.warnings()
                 .iter()
                 .all(|d| !d.source_line.contains('\u{feff}'))
         );
@@ -938,7 +784,7 @@ primitive sphere
             b"\n# \xc3\nprimitive sphere # \xe9t\xe9\n    O= 0 0 0\n    R= 1\nend\n",
         );
         let s = same_in_chunks("latin-1", &bytes)?;
-        assert_eq!(s.objects.len(), 5);
+        assert_eq!(s.objects().len(), 5);
         bytes.extend_from_slice(b"primitive sph\xe8re\nend\n");
         let e = same_in_chunks("latin-1 error", &bytes).unwrap_err();
         let d = e.errors().next().map(|d| (d.column, d.source_line.clone()));
@@ -953,7 +799,7 @@ primitive sphere
         );
         let s = same_in_chunks("multi-byte", text.as_bytes())?;
         let w = s
-            .warnings
+            .warnings()
             .last()
             .map(|d| (d.column, d.len, d.source_line.as_str()));
         assert_eq!(w, Some((5, 6, "    colör= 1 1 1")));
@@ -1022,8 +868,8 @@ primitive sphere
         let e = same_in_chunks("300 spheres", text.as_bytes()).unwrap_err();
         assert_eq!(places(&Err(e)), vec![(249 * 4 + 3, 8, "    R= oops")]);
         let s = same_in_chunks("300 spheres", text.replace("oops", "2").as_bytes())?;
-        assert_eq!(s.objects.len(), 300);
-        assert_eq!(s.objects.last().and_then(|o| o.block()), Some(299));
+        assert_eq!(s.objects().len(), 300);
+        assert_eq!(s.objects().last().and_then(|o| o.block()), Some(299));
         Ok(())
     }
 
@@ -1033,10 +879,7 @@ primitive sphere
         let text = "primitive sphere\n R= 1\nend\nprimitive spere\n R= x\n";
         let carry = r.feed(text, false);
         assert_eq!(text.get(carry..), Some("primitive spere\n R= x\n"));
-        assert_eq!(
-            (r.line, r.diags.out.len(), r.diags.error_count()),
-            (3, 0, 0)
-        );
+        assert_eq!((r.line, r.diags.count(), r.diags.error_count()), (3, 0, 0));
     }
 
     #[test]
@@ -1056,14 +899,16 @@ primitive sphere
         let Ok(mut s) = warned.clone() else {
             return Err("WARNED does not parse".into());
         };
-        if let Some(d) = s.warnings.last_mut() {
+        let mut warnings = s.warnings().to_vec();
+        if let Some(d) = warnings.last_mut() {
             d.source_line.push(' ');
         }
+        s.set_warnings(warnings);
         assert!(difference(&warned, &Ok(s.clone())).is_some());
         let Ok(mut s) = warned.clone() else {
             return Err("WARNED does not parse".into());
         };
-        s.objects.pop();
+        s.take_objects();
         assert!(difference(&warned, &Ok(s)).is_some());
         Ok(())
     }
@@ -1170,7 +1015,7 @@ primitive sphere
             let bytes = std::fs::read(&path)?;
             let dir = path.parent().unwrap_or(Path::new("."));
             let whole = parse_str(&String::from_utf8_lossy(&bytes), Some(&path), dir);
-            let objects = whole.as_ref().map(|s| s.objects.len());
+            let objects = whole.as_ref().map(|s| s.objects().len());
             assert!(
                 objects.is_ok_and(|n| n > 0),
                 "{}: {objects:?}",

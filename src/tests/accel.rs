@@ -2,15 +2,13 @@
 //! nearest hit (index and distance, lowest index on ties) and the same
 //! any-hit answer, on random and degenerate scenes of every kind of shape.
 
-mod common;
-
-use common::{half_sizes, log_size, point_in, random_sign};
-use glam::{DMat3, DVec2, DVec3};
-use glint::accel::Accel;
-use glint::geometry::{
+use super::common::{half_sizes, log_size, point_in, random_sign};
+use crate::accel::Accel;
+use crate::geometry::{
     Bezier, Cube, Cylinder, Hit, Plane, Ray, Shape, Sphere, Square, Triangle, offset_origin,
 };
-use glint::scene::{Object, Origin, Scene};
+use crate::scene::{Object, Origin, Scene};
+use glam::{DMat3, DVec2, DVec3};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
 
@@ -176,15 +174,15 @@ fn shuffle(rng: &mut Pcg64, objects: &mut [Object]) {
     }
 }
 
-/// A closed box of six `square` objects ([`common::box_faces`]), no light.
+/// A closed box of six `square` objects ([`super::common::box_faces`]), no light.
 fn six_squares(c: DVec3, rot: DMat3, h: DVec3) -> impl Iterator<Item = Object> {
-    common::box_faces(c, rot, h)
+    super::common::box_faces(c, rot, h)
         .into_iter()
         .map(|(o, dx, dy)| object(square(o, dx, dy), None))
 }
 
 /// Asserts the tree's nearest hit is brute force's, and says whether several objects share its distance.
-fn check_tie(accel: &Accel, objects: &[Object], ray: &Ray) -> bool {
+fn check_tie(accel: &Accel<Object>, objects: &[Object], ray: &Ray) -> bool {
     let expected = brute_intersect(objects, ray, f64::INFINITY);
     assert_eq!(accel.intersect(ray, f64::INFINITY), expected, "{ray:?}");
     expected.is_some_and(|(_, hit)| {
@@ -199,7 +197,7 @@ fn check_tie(accel: &Accel, objects: &[Object], ray: &Ray) -> bool {
 /// Checks `rays` random rays against brute force: nearest hit with several
 /// t_max, and any-hit with several t_max and light exclusions.
 fn check(objects: &[Object], rays: usize, half: f64, seed: u64) {
-    let accel = Accel::build(objects);
+    let accel = Accel::build(objects.to_vec());
     assert_eq!(accel.objects().len(), objects.len());
     let lights: Vec<u32> = objects.iter().filter_map(|o| o.light()).collect();
     let mut rng = Pcg64::seed_from_u64(seed);
@@ -502,7 +500,7 @@ fn random_packet(rng: &mut Pcg64, objects: &[Object], half: f64) -> Vec<Ray> {
 /// Packet queries against brute force, ray by ray: the nearest hit.
 /// Returns the rays that hit something and all rays.
 fn check_packets(objects: &[Object], packets: usize, half: f64, seed: u64) -> (usize, usize) {
-    let accel = Accel::build(objects);
+    let accel = Accel::build(objects.to_vec());
     let mut rng = Pcg64::seed_from_u64(seed);
     let mut hits = 0;
     let mut rays_seen = 0;
@@ -567,7 +565,7 @@ fn coincident_boxes_tie_to_lowest_index() {
         objects.extend(group);
     }
     shuffle(&mut rng, &mut objects);
-    let accel = Accel::build(&objects);
+    let accel = Accel::build(objects.to_vec());
     let mut ties = 0;
     for _ in 0..3000 {
         let ray = Ray::new(
@@ -582,7 +580,7 @@ fn coincident_boxes_tie_to_lowest_index() {
 
 #[test]
 fn empty_scene_hits_nothing() {
-    let accel = Accel::build(&[]);
+    let accel = Accel::<Object>::build(Vec::new());
     let ray = Ray::new(DVec3::ZERO, DVec3::X);
     assert!(accel.intersect(&ray, f64::INFINITY).is_none());
     assert!(!accel.occluded(&ray, f64::INFINITY, None));
@@ -634,7 +632,7 @@ fn one_object_of_each_kind() {
         ),
     ] {
         let objects = vec![object(shape, Some(0))];
-        let accel = Accel::build(&objects);
+        let accel = Accel::build(objects.to_vec());
         let ray = Ray::new(DVec3::ZERO, DVec3::Y);
         let (i, h) = accel.intersect(&ray, f64::INFINITY).unwrap();
         assert_eq!((i, h.t), (0, t));
@@ -679,7 +677,7 @@ fn all_objects_at_one_centroid() {
         objects.push(object(sphere(c, 0.5), None));
     }
     check(&objects, 2000, 6.0, 9);
-    let accel = Accel::build(&objects);
+    let accel = Accel::build(objects.to_vec());
     let ray = Ray::new(c - DVec3::new(10.0, 0.0, 0.0), DVec3::X);
     let (i, h) = accel.intersect(&ray, f64::INFINITY).unwrap();
     assert_eq!(
@@ -700,7 +698,7 @@ fn identical_objects_tie_to_lowest_index() {
             objects.push(object(sphere(point_in(&mut rng, 20.0), 0.2), None));
         }
     }
-    let accel = Accel::build(&objects);
+    let accel = Accel::build(objects.to_vec());
     let ray = Ray::new(DVec3::new(0.0, 0.0, -0.5), DVec3::Z);
     assert_eq!(
         accel.intersect(&ray, f64::INFINITY).map(|(i, h)| (i, h.t)),
@@ -729,7 +727,7 @@ fn shared_edges_and_vertices_tie_to_lowest_index() {
             ));
         }
     }
-    let accel = Accel::build(&objects);
+    let accel = Accel::build(objects.to_vec());
     let mut rng = Pcg64::seed_from_u64(12);
     let mut ties = 0;
     for _ in 0..4000 {
@@ -786,7 +784,7 @@ fn huge_and_tiny_objects_mixed() {
     objects.push(object(sphere(DVec3::splat(1e12), 1e11), None));
     check(&objects, 3000, 9.5, 15);
     // Specks are found when aimed at.
-    let accel = Accel::build(&objects);
+    let accel = Accel::build(objects.to_vec());
     for (i, o) in objects.iter().enumerate().skip(6).step_by(2).take(500) {
         let Shape::Sphere(s) = &o.shape else {
             unreachable!()
@@ -810,7 +808,7 @@ fn geometric_progression_builds_a_deep_tree() {
         objects.push(object(sphere(DVec3::new(x, 0.0, 0.0), x * 0.25), None));
         objects.push(object(sphere(DVec3::new(0.0, -x, 0.0), x * 0.25), Some(0)));
     }
-    let accel = Accel::build(&objects);
+    let accel = Accel::build(objects.to_vec());
     let mut rng = Pcg64::seed_from_u64(16);
     for (i, o) in objects.iter().enumerate() {
         let Shape::Sphere(s) = &o.shape else {
@@ -835,7 +833,7 @@ fn geometric_progression_builds_a_deep_tree() {
 fn scene_built_in_code_with_area_lights() {
     // Lights' visible surfaces come from Scene::add_light and are skipped by
     // occluded() for their own light only.
-    use glint::scene::{Light, LightKind};
+    use crate::scene::{Light, LightKind};
     let mut scene = Scene::empty();
     let m = scene.add_material(Default::default());
     let mut rng = Pcg64::seed_from_u64(17);
@@ -867,7 +865,7 @@ fn scene_built_in_code_with_area_lights() {
             });
         }
     }
-    check(&scene.objects, 2000, 10.0, 18);
+    check(scene.objects(), 2000, 10.0, 18);
 }
 
 #[test]
@@ -875,7 +873,7 @@ fn large_scene_built_on_threads_matches_brute_force() {
     // Big enough for several levels of parallel build.
     let mut rng = Pcg64::seed_from_u64(19);
     let objects = mixed_scene(&mut rng, 25_000, 25_000, 2);
-    let accel = Accel::build(&objects);
+    let accel = Accel::build(objects.to_vec());
     let mut hits = 0;
     for n in 0..400 {
         let ray = random_ray(&mut rng, &objects, 14.0);
@@ -908,7 +906,7 @@ fn astronomic_and_nan_objects_are_tested_too() {
         object(sphere(DVec3::new(0.0, 0.0, 5.0), f64::INFINITY), None),
         object(sphere(DVec3::new(5.0, -3.0, 0.0), 1.0), None),
     ];
-    let accel = Accel::build(&objects);
+    let accel = Accel::build(objects.to_vec());
     let ray = Ray::new(DVec3::ZERO, DVec3::X);
     let (i, h) = accel.intersect(&ray, f64::INFINITY).unwrap();
     assert_eq!(
@@ -928,7 +926,7 @@ fn astronomic_and_nan_objects_are_tested_too() {
 /// force's. Returns how many points were checked, and how many rays were
 /// blocked and free.
 fn check_shadow_reach(objects: &[Object], points: usize, seed: u64) -> (usize, usize, usize) {
-    let accel = Accel::build(objects);
+    let accel = Accel::build(objects.to_vec());
     let lit: Vec<&Object> = objects.iter().filter(|o| o.light().is_some()).collect();
     let mut rng = Pcg64::seed_from_u64(seed);
     let (mut checked, mut blocked, mut free) = (0, 0, 0);

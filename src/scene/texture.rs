@@ -1,7 +1,6 @@
 //! Image textures, sampled bilinearly with wrapping as the framework does.
 
 use glam::{DVec2, DVec3};
-use std::path::Path;
 
 /// A decoded image texture in linear floats (a byte b means b/255).
 #[derive(Clone, Debug, PartialEq)]
@@ -13,28 +12,6 @@ pub struct Texture {
 }
 
 impl Texture {
-    /// Decodes an image file (BMP 24/32-bit, PNG, JPEG).
-    pub fn load(path: &Path) -> Result<Texture, String> {
-        let img = image::open(path).map_err(|e| e.to_string())?.to_rgb8();
-        let (w, h) = (img.width() as usize, img.height() as usize);
-        if w == 0 || h == 0 {
-            return Err("the image is empty".to_string());
-        }
-        let mut texels = Vec::with_capacity(w * h);
-        // image stores rows top-down; the framework's row 0 is the bottom.
-        for y in (0..h).rev() {
-            for x in 0..w {
-                let p = img.get_pixel(x as u32, y as u32).0;
-                texels.push(p.map(|b| b as f32 / 255.0));
-            }
-        }
-        Ok(Texture {
-            width: w,
-            height: h,
-            texels,
-        })
-    }
-
     /// A texture from rows listed bottom-up (for tests and generated textures).
     pub fn from_rows(width: usize, height: usize, texels: Vec<[f32; 3]>) -> Texture {
         assert_eq!(texels.len(), width * height, "texel count"); // invariant: caller's contract
@@ -117,26 +94,5 @@ mod tests {
         );
         // Centre of all four.
         assert_eq!(t.sample(DVec2::new(0.25, 0.25)), DVec3::new(0.5, 0.5, 0.25));
-    }
-
-    #[test]
-    fn bmp_rows_are_bottom_up() -> Result<(), Box<dyn std::error::Error>> {
-        let dir = std::env::temp_dir().join(format!("glint-tex-{}", std::process::id()));
-        std::fs::create_dir_all(&dir)?;
-        let path = dir.join("t.bmp");
-        // Top row red, bottom row blue, as a person sees the picture.
-        let img = image::RgbImage::from_fn(1, 2, |_, y| {
-            if y == 0 {
-                image::Rgb([255, 0, 0])
-            } else {
-                image::Rgb([0, 0, 255])
-            }
-        });
-        img.save(&path)?;
-        let t = Texture::load(&path)?;
-        assert_eq!(t.sample(DVec2::new(0.0, 0.0)), DVec3::Z);
-        assert_eq!(t.sample(DVec2::new(0.5, 0.0)), DVec3::X);
-        std::fs::remove_dir_all(&dir)?;
-        Ok(())
     }
 }

@@ -2,10 +2,10 @@
 //! fraction (computed here by dense quadrature), with less noise than
 //! independent sampling would give.
 
+use crate::accel::Accel;
+use crate::integrator::{ShadowFrom, ShadowHints, shade_factor};
+use crate::scene::{LightKind, Object, Scene};
 use glam::DVec3;
-use glint::accel::Accel;
-use glint::scene::{LightKind, Scene};
-use glint::shading::{ShadowFrom, ShadowHints, shade_factor};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
 
@@ -25,7 +25,7 @@ fn scene(text: &str) -> Scene {
 /// The shade factor of light `light` at `point` (on a surface facing +z)
 /// and the rays it took, from its own random stream `seed`.
 fn factor(
-    accel: &Accel,
+    accel: &Accel<Object>,
     s: &Scene,
     light: usize,
     point: DVec3,
@@ -34,7 +34,7 @@ fn factor(
 ) -> (f64, u64) {
     let mut rng = Pcg32::seed_from_u64(seed);
     let mut hints = ShadowHints::default();
-    let l = &s.lights[light];
+    let l = &s.lights()[light];
     shade_factor(
         accel,
         l,
@@ -54,11 +54,11 @@ fn estimate(s: &Scene, samples: u32, runs: u64) -> (f64, f64) {
 /// Mean and standard deviation of the shade factor at `point` (on a
 /// surface facing +z) over many seeds.
 fn estimate_at(s: &Scene, point: DVec3, samples: u32, runs: u64) -> (f64, f64) {
-    let accel = Accel::build(&s.objects);
+    let accel = Accel::build(s.objects().to_vec());
     let values: Vec<f64> = (0..runs)
         .map(|seed| {
             let (v, rays) = factor(&accel, s, 0, point, samples, seed);
-            let point = matches!(s.lights[0].kind, LightKind::Point { .. });
+            let point = matches!(s.lights()[0].kind, LightKind::Point { .. });
             assert_eq!(rays, if point { 1 } else { samples as u64 });
             v
         })
@@ -205,8 +205,8 @@ fn light_surfaces_block_other_lights_only() {
         "light sphere\n O= 0 0 10\n R= 2\n color= 1 1 1\nend
          light square\n O= 0 0 5\n Dx= 20 0 0\n Dy= 0 20 0\n color= 1 1 1\nend",
     );
-    assert!(matches!(s.lights[1].kind, LightKind::Square { .. }));
-    let accel = Accel::build(&s.objects);
+    assert!(matches!(s.lights()[1].kind, LightKind::Square { .. }));
+    let accel = Accel::build(s.objects().to_vec());
     // The square light hides the sphere light completely.
     assert_eq!(factor(&accel, &s, 0, DVec3::ZERO, 16, 1).0, 0.0);
     // The square light sees itself.
@@ -403,7 +403,7 @@ fn sphere_light_close_up_converges_to_the_visible_solid_angle() {
 /// shade_quality 1 to 4 (16 to 64 samples); each point and quality has its
 /// own fixed seed.
 fn rms_by_quality(s: &Scene, points: &[(DVec3, f64)]) -> [f64; 4] {
-    let accel = Accel::build(&s.objects);
+    let accel = Accel::build(s.objects().to_vec());
     std::array::from_fn(|q| {
         let samples = 16 * (q as u32 + 1);
         let sum: f64 = points

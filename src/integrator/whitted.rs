@@ -1,96 +1,66 @@
-//! The framework's shading model (spec: "Shading model"), computed exactly.
+//! The framework's shading model (spec: "Shading model"), computed
+//! exactly: diffuse and the `L·N` specular per light with shadows, mirror
+//! and glossy reflection, refraction with Beer absorption, the per-ray
+//! clamp, depth 10.
 
-use crate::accel::{Accel, PACKET_MAX};
-use crate::geometry::{Hit, Ray, offset_origin};
-use crate::scene::{LightKind, Origin, Scene};
-use crate::shading::{ShadowFrom, ShadowHints, shade_factor};
+use super::observer::PathObserver;
+use super::visibility::{ShadowFrom, ShadowHints, shade_factor};
+use super::{PathState, SceneAccel};
+use crate::accel::PACKET_MAX;
+use crate::geometry::{Hit, Ray, offset_origin, perpendiculars};
+use crate::scene::{Camera, LightKind, Scene};
 use glam::DVec3;
 use rand::Rng;
 use rand_pcg::Pcg32;
 
 /// A ray of this depth returns black (the camera ray has depth 1).
-pub const MAX_DEPTH: u32 = 10;
+pub(crate) const MAX_DEPTH: u32 = 10;
 /// Glossy reflections are averaged over many rays up to this depth, one ray
 /// deeper; each glossy ray also counts this many levels (the framework's
 /// `MAX_DREFL_DEP`), so a glossy surface seen in a glossy reflection takes one ray.
 const GLOSSY_AVERAGE_DEPTH: u32 = 2;
 
-/// Rays traced, by kind.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct RayCounts {
-    /// Primary rays.
-    pub camera: u64,
-    /// Mirror and glossy reflection rays.
-    pub reflected: u64,
-    /// Refraction (and total-internal-reflection) rays.
-    pub refracted: u64,
-    /// Shadow rays.
-    pub shadow: u64,
-}
-
-impl RayCounts {
-    /// All rays together.
-    pub fn total(&self) -> u64 {
-        self.camera + self.reflected + self.refracted + self.shadow
-    }
-
-    /// Adds another tally to this one.
-    pub fn add(&mut self, o: &RayCounts) {
-        self.camera += o.camera;
-        self.reflected += o.reflected;
-        self.refracted += o.refracted;
-        self.shadow += o.shadow;
-    }
-}
-
-/// The state one camera sample carries down its tree of rays.
-pub struct PathState {
-    /// The sample's own random stream.
-    pub rng: Pcg32,
-    /// Rays traced so far.
-    pub rays: RayCounts,
-}
-
-/// Evaluates the shading model for rays in a scene.
-pub struct Tracer<'a> {
+/// The framework's ray tracer over one scene.
+pub(crate) struct Whitted<'a> {
     scene: &'a Scene,
-    accel: &'a Accel<'a>,
+    accel: &'a SceneAccel,
     shadow_samples: u32,
     glossy_samples: u32,
 }
 
-impl<'a> Tracer<'a> {
-    /// A tracer over `scene` using `accel` for ray queries.
-    pub fn new(scene: &'a Scene, accel: &'a Accel<'a>) -> Self {
-        Tracer {
+impl<'a> Whitted<'a> {
+    /// The tracer over `scene` (its camera's quality keys) using `accel`
+    /// (built over the scene's objects) for ray queries.
+    pub fn new(scene: &'a Scene, camera: &Camera, accel: &'a SceneAccel) -> Self {
+        Whitted {
             scene,
             accel,
-            shadow_samples: 16 * scene.camera.shade_quality.max(1),
-            glossy_samples: 16 * scene.camera.drefl_quality.max(1),
+            shadow_samples: 16 * camera.shade_quality.max(1),
+            glossy_samples: 16 * camera.drefl_quality.max(1),
         }
     }
 
-    /// The colour seen along one camera ray, adding to `hash` what the
-    /// anti-aliasing compares: the reference the packet tests compare with.
+    /// The colour seen along one camera ray, told to `obs`: the reference
+    /// the packet tests compare with.
     #[cfg(test)]
-    pub fn trace_camera(
+    pub fn trace_camera<O: PathObserver>(
         &self,
         ray: &Ray,
         st: &mut PathState,
-        hash: &mut u64,
+        obs: &mut O,
         hints: &mut ShadowHints,
     ) -> DVec3 {
         st.rays.camera += 1;
-        self.trace(ray, 1, st, Some(hash), hints)
+        self.trace(ray, 1, st, obs, hints)
     }
 
     /// The colours seen along up to [`PACKET_MAX`] camera rays into `out`,
-    /// adding to `hashes` what the anti-aliasing compares between neighbours.
-    pub fn trace_camera_packet(
+    /// ray k told to `observers[k]`.
+    pub fn trace_camera_packet<O: PathObserver>(
         &self,
         rays: &[Ray],
         states: &mut [PathState],
-        hashes: &mut [u64],
+        observers: &mut [O],
         out: &mut [DVec3],
         hints: &mut ShadowHints,
     ) {
@@ -99,51 +69,49 @@ impl<'a> Tracer<'a> {
         self.accel.intersect_packet(rays, found);
         for (k, (ray, &hit)) in rays.iter().zip(found.iter()).enumerate() {
             states[k].rays.camera += 1;
-            let hash = Some(&mut hashes[k]);
-            out[k] = self.shade(ray, hit, 1, &mut states[k], hash, hints);
+            out[k] = self.shade(ray, hit, 1, &mut states[k], &mut observers[k], hints);
         }
     }
 
     /// The framework's `RayTracing`: the colour along `ray` at `depth`,
     /// clamped to at most 1 per channel.
-    fn trace(
+    fn trace<O: PathObserver>(
         &self,
         ray: &Ray,
         depth: u32,
         st: &mut PathState,
-        hash: Option<&mut u64>,
+        obs: &mut O,
         hints: &mut ShadowHints,
     ) -> DVec3 {
         let found = self.accel.intersect(ray, f64::INFINITY);
-        self.shade(ray, found, depth, st, hash, hints)
+        self.shade(ray, found, depth, st, obs, hints)
     }
 
-    /// [`Tracer::trace`] for a ray whose nearest hit is `found`.
-    fn shade(
+    /// [`Whitted::trace`] for a ray whose nearest hit is `found`.
+    fn shade<O: PathObserver>(
         &self,
         ray: &Ray,
         found: Option<(u32, Hit)>,
         depth: u32,
         st: &mut PathState,
-        mut hash: Option<&mut u64>,
+        obs: &mut O,
         hints: &mut ShadowHints,
     ) -> DVec3 {
         let scene = self.scene;
         let Some((index, hit)) = found else {
-            return scene.background.color(ray.dir).min(DVec3::ONE);
+            return scene.background().color(ray.dir).min(DVec3::ONE);
         };
         let object = &self.accel.objects()[index as usize];
-        if let Some(h) = hash.as_deref_mut() {
-            *h = h.wrapping_add(object_id(object.origin));
-        }
+        obs.hit(object.origin());
         if let Some(light) = object.light() {
-            return scene.lights[light as usize].color.min(DVec3::ONE);
+            return scene.lights()[light as usize].color.min(DVec3::ONE);
         }
-        let m = scene.material(object.material);
+        let m = scene.material_of(object);
+        let shape = object.shape();
         let surface = if m.texture.is_some() {
-            object.shape.surface(ray, &hit)
+            shape.surface(ray, &hit)
         } else {
-            object.shape.surface_untextured(ray, &hit)
+            shape.surface_untextured(ray, &hit)
         };
         let point = surface.point;
         let front = surface.normal.dot(ray.dir) < 0.0;
@@ -156,8 +124,8 @@ impl<'a> Tracer<'a> {
         let mut color = DVec3::ZERO;
 
         if m.diff > 0.0 || m.spec > 0.0 {
-            let k = match m.texture {
-                Some(t) => m.color * scene.textures[t as usize].sample(surface.uv),
+            let k = match m.texture.and_then(|t| scene.textures().get(t as usize)) {
+                Some(texture) => m.color * texture.sample(surface.uv),
                 None => m.color,
             };
             let from = ShadowFrom {
@@ -165,7 +133,7 @@ impl<'a> Tracer<'a> {
                 side,
                 object: Some(index),
             };
-            for (li, light) in scene.lights.iter().enumerate() {
+            for (li, light) in scene.lights().iter().enumerate() {
                 let l = (light.center() - point).normalize_or_zero();
                 let d = l.dot(n);
                 if d <= 0.0 {
@@ -184,8 +152,8 @@ impl<'a> Tracer<'a> {
                 if s <= 0.0 {
                     continue;
                 }
-                if let (Some(h), LightKind::Point { .. }) = (hash.as_deref_mut(), light.kind) {
-                    *h = h.wrapping_add(mix(li as u64 + 1) ^ 0x9e37_79b9_7f4a_7c15);
+                if let LightKind::Point { .. } = light.kind {
+                    obs.point_light(li as u32);
                 }
                 let weight = m.diff * d * s + m.spec * d.powi(20) * s;
                 color += k * light.color * weight;
@@ -202,20 +170,21 @@ impl<'a> Tracer<'a> {
             if !glossy {
                 st.rays.reflected += 1;
                 let ray = Ray::off_surface(origin, mirror);
-                color += self.trace(&ray, depth + 1, st, hash.as_deref_mut(), hints) * weight;
+                color += self.trace(&ray, depth + 1, st, obs, hints) * weight;
             } else {
                 let samples = if depth <= GLOSSY_AVERAGE_DEPTH {
                     self.glossy_samples
                 } else {
                     1
                 };
-                let (a1, a2) = crate::shading::perpendiculars(mirror);
+                let (a1, a2) = perpendiculars(mirror);
+                let mut fan = obs.fan();
                 let mut sum = DVec3::ZERO;
                 for _ in 0..samples {
                     let dir = glossy_direction(mirror, side, a1, a2, m.drefl, &mut st.rng);
                     st.rays.reflected += 1;
                     let ray = Ray::off_surface(origin, dir);
-                    sum += self.trace(&ray, reflected_depth, st, None, hints);
+                    sum += self.trace(&ray, reflected_depth, st, &mut fan, hints);
                 }
                 color += sum / samples as f64 * weight;
             }
@@ -228,7 +197,7 @@ impl<'a> Tracer<'a> {
                 None => (reflect(ray.dir, n), offset_origin(point, side)),
             };
             st.rays.refracted += 1;
-            let c = self.trace(&Ray::off_surface(origin, dir), depth + 1, st, hash, hints);
+            let c = self.trace(&Ray::off_surface(origin, dir), depth + 1, st, obs, hints);
             let weight = if front {
                 DVec3::splat(m.refr)
             } else {
@@ -287,26 +256,6 @@ fn glossy_direction(
     dir
 }
 
-/// What an object adds to a pixel's hash: a value per block and per area
-/// light (computed on the spot: a table of them would cost a cache miss per
-/// hit in a large scene).
-#[inline]
-fn object_id(origin: Origin) -> u64 {
-    match origin {
-        Origin::Block(b) => mix(b as u64 + 1),
-        Origin::Light(l) => mix((l as u64 + 1) << 32),
-    }
-}
-
-/// A 64-bit mix (splitmix64's finaliser).
-#[inline]
-pub fn mix(mut z: u64) -> u64 {
-    z = z.wrapping_add(0x9e37_79b9_7f4a_7c15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -332,7 +281,7 @@ mod tests {
         let mut rng = Pcg32::seed_from_u64(7);
         // Steep mirror direction: no folding, so the angle to it is at most atan(drefl).
         let mirror = DVec3::new(1.0, 0.0, 1.0).normalize();
-        let (a1, a2) = crate::shading::perpendiculars(mirror);
+        let (a1, a2) = perpendiculars(mirror);
         let mut max_angle: f64 = 0.0;
         for _ in 0..2000 {
             let d = glossy_direction(mirror, DVec3::Z, a1, a2, 0.25, &mut rng);
@@ -346,7 +295,7 @@ mod tests {
         );
         // Grazing mirror direction: every sample is folded above the surface.
         let mirror = DVec3::new(1.0, 0.0, 0.01).normalize();
-        let (a1, a2) = crate::shading::perpendiculars(mirror);
+        let (a1, a2) = perpendiculars(mirror);
         for _ in 0..2000 {
             assert!(glossy_direction(mirror, DVec3::Z, a1, a2, 0.25, &mut rng).z >= 0.0);
         }
@@ -357,7 +306,7 @@ mod tests {
         use rand::SeedableRng;
         let mut rng = Pcg32::seed_from_u64(11);
         let mirror = DVec3::Z;
-        let (a1, a2) = crate::shading::perpendiculars(mirror);
+        let (a1, a2) = perpendiculars(mirror);
         let drefl = 0.5;
         let n = 64_000;
         let mut angle_bins = [0u32; 16];

@@ -1,0 +1,221 @@
+//! Files a scene names: textures and meshes, looked up next to the scene
+//! file first, then in the working directory, and loaded once each.
+
+use super::diags::{Diags, Site};
+use super::obj::load_obj;
+use crate::geometry::Triangle;
+use crate::scene::Texture;
+use glam::DVec3;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+/// Where the files a scene names are looked up, the textures loaded so
+/// far, and the notes about where files were found.
+pub(crate) struct Assets<'p> {
+    base: &'p Path,
+    /// Texture index by resolved path, so each file is decoded once.
+    by_path: HashMap<PathBuf, u32>,
+    /// Where each file was found, for verbose output.
+    pub notes: Vec<String>,
+}
+
+/// How a `primitive mesh` block places its OBJ file's vertices.
+pub(crate) struct Placement {
+    /// `O=`.
+    pub origin: DVec3,
+    /// `scale=`, per axis.
+    pub scale: DVec3,
+    /// `rotation=` about x, y, z (radians).
+    pub rotation: DVec3,
+}
+
+impl<'p> Assets<'p> {
+    /// Assets of a scene whose relative paths are looked up in `base` first.
+    pub fn new(base: &'p Path) -> Self {
+        Assets {
+            base,
+            by_path: HashMap::new(),
+            notes: Vec::new(),
+        }
+    }
+
+    /// Finds a file named in the scene: next to the scene file first, then
+    /// in the working directory (and, for names written with Windows
+    /// separators, the same with `/`). Returns the path and where it was
+    /// found, or the places tried.
+    fn resolve(&self, name: &str) -> Result<(PathBuf, &'static str), Vec<PathBuf>> {
+        let mut tried: Vec<PathBuf> = Vec::new();
+        let slashed = name.replace('\\', "/");
+        let names: &[&str] = if slashed != name {
+            &[name, &slashed]
+        } else {
+            &[name]
+        };
+        for &n in names {
+            let p = Path::new(n);
+            let candidates = if p.is_absolute() {
+                [
+                    (p.to_path_buf(), "as an absolute path"),
+                    (p.to_path_buf(), ""),
+                ]
+            } else {
+                [
+                    (self.base.join(p), "in the scene file's folder"),
+                    (p.to_path_buf(), "in the working directory"),
+                ]
+            };
+            for (path, found) in candidates {
+                if found.is_empty() || tried.contains(&path) {
+                    continue;
+                }
+                if path.is_file() {
+                    return Ok((path, found));
+                }
+                tried.push(path);
+            }
+        }
+        Err(tried)
+    }
+
+    /// Reports a file that was not found.
+    fn not_found(what: &str, name: &str, tried: &[PathBuf], site: Site, diags: &mut Diags) {
+        let tried = tried
+            .iter()
+            .map(|p| format!("`{}`", p.display()))
+            .collect::<Vec<_>>()
+            .join(" and ");
+        diags.error(
+            site,
+            format!("{what} file `{name}` not found"),
+            Some(format!(
+                "looked for {tried} (next to the scene file, then in the working directory)"
+            )),
+        );
+    }
+
+    /// The index of texture `name` (named at `site`): decoded on first use
+    /// and handed to `add`, which gives its index.
+    pub fn texture(
+        &mut self,
+        name: &str,
+        site: Site,
+        diags: &mut Diags,
+        add: &mut dyn FnMut(Texture) -> u32,
+    ) -> Option<u32> {
+        let (path, found) = match self.resolve(name) {
+            Ok(p) => p,
+            Err(tried) => {
+                Self::not_found("texture", name, &tried, site, diags);
+                return None;
+            }
+        };
+        let key = std::fs::canonicalize(&path).unwrap_or_else(|_| path.clone());
+        if let Some(&i) = self.by_path.get(&key) {
+            return Some(i);
+        }
+        match decode_texture(&path) {
+            Ok(t) => {
+                let i = add(t);
+                self.by_path.insert(key, i);
+                self.notes.push(format!(
+                    "line {}: texture `{name}` found {found}: {}",
+                    site.line + 1,
+                    path.display()
+                ));
+                Some(i)
+            }
+            Err(e) => {
+                diags.error(
+                    site,
+                    format!("cannot read texture `{name}` ({}): {e}", path.display()),
+                    None,
+                );
+                None
+            }
+        }
+    }
+
+    /// The triangles of mesh file `name` (named at `site`), placed by `at`.
+    pub fn mesh(
+        &mut self,
+        name: &str,
+        site: Site,
+        at: &Placement,
+        diags: &mut Diags,
+    ) -> Option<Vec<Triangle>> {
+        let (path, found) = match self.resolve(name) {
+            Ok(p) => p,
+            Err(tried) => {
+                Self::not_found("mesh", name, &tried, site, diags);
+                return None;
+            }
+        };
+        match load_obj(&path, at.origin, at.scale, at.rotation) {
+            Ok(triangles) => {
+                self.notes.push(format!(
+                    "line {}: mesh `{name}` found {found}: {} ({} triangles)",
+                    site.line + 1,
+                    path.display(),
+                    triangles.len()
+                ));
+                if triangles.is_empty() {
+                    diags.warn(site, format!("mesh `{name}` has no triangles"), None);
+                }
+                Some(triangles)
+            }
+            Err(e) => {
+                diags.error(
+                    site,
+                    format!("cannot load mesh `{name}` ({}): {e}", path.display()),
+                    None,
+                );
+                None
+            }
+        }
+    }
+}
+
+/// Decodes an image file (BMP 24/32-bit, PNG, JPEG) into a texture.
+pub(crate) fn decode_texture(path: &Path) -> Result<Texture, String> {
+    let img = image::open(path).map_err(|e| e.to_string())?.to_rgb8();
+    let (w, h) = (img.width() as usize, img.height() as usize);
+    if w == 0 || h == 0 {
+        return Err("the image is empty".to_string());
+    }
+    let mut texels = Vec::with_capacity(w * h);
+    // image stores rows top-down; the framework's row 0 is the bottom.
+    for y in (0..h).rev() {
+        for x in 0..w {
+            let p = img.get_pixel(x as u32, y as u32).0;
+            texels.push(p.map(|b| b as f32 / 255.0));
+        }
+    }
+    Ok(Texture::from_rows(w, h, texels))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec2;
+
+    #[test]
+    fn bmp_rows_are_bottom_up() -> Result<(), Box<dyn std::error::Error>> {
+        let dir = std::env::temp_dir().join(format!("glint-tex-{}", std::process::id()));
+        std::fs::create_dir_all(&dir)?;
+        let path = dir.join("t.bmp");
+        // Top row red, bottom row blue, as a person sees the picture.
+        let img = image::RgbImage::from_fn(1, 2, |_, y| {
+            if y == 0 {
+                image::Rgb([255, 0, 0])
+            } else {
+                image::Rgb([0, 0, 255])
+            }
+        });
+        img.save(&path)?;
+        let t = decode_texture(&path)?;
+        assert_eq!(t.sample(DVec2::new(0.0, 0.0)), DVec3::Z);
+        assert_eq!(t.sample(DVec2::new(0.5, 0.0)), DVec3::X);
+        std::fs::remove_dir_all(&dir)?;
+        Ok(())
+    }
+}

@@ -1,0 +1,185 @@
+//! Assembles the scene block by block: each complete block's `key= values`
+//! entries are parsed against its schema row, then handed to the row's
+//! build function; what every light or primitive shares (colour, material)
+//! is read here.
+
+use super::assets::Assets;
+use super::block::Block;
+use super::blocks;
+use super::diags::{Diags, Site};
+use super::lexer::Word;
+use super::schema::{BlockKind, Build, is_known_key};
+use super::suggest::closest;
+use super::values::{Entry, Fields, parse_entry};
+use crate::scene::{Light, Scene};
+use glam::DVec3;
+use std::path::Path;
+
+/// Builds the scene block by block.
+pub(crate) struct Builder<'p> {
+    scene: Scene,
+    assets: Assets<'p>,
+    next_block: u32,
+    cameras: u32,
+    backgrounds: u32,
+    /// The last block's fields, emptied: no allocation per block.
+    spare: Fields,
+}
+
+impl<'p> Builder<'p> {
+    /// A builder resolving relative paths against `base` first.
+    pub fn new(base: &'p Path, path: Option<&Path>) -> Self {
+        let mut scene = Scene::empty();
+        scene.set_path(path.map(Path::to_path_buf));
+        Builder {
+            scene,
+            assets: Assets::new(base),
+            next_block: 0,
+            cameras: 0,
+            backgrounds: 0,
+            spare: Fields::default(),
+        }
+    }
+
+    /// The index of the next `primitive` block (counting every one, in file order).
+    pub fn next_primitive_block(&mut self) -> u32 {
+        let i = self.next_block;
+        self.next_block = self.next_block.saturating_add(1);
+        i
+    }
+
+    /// The scene built so far, with the notes about its files.
+    pub fn finish(self) -> Scene {
+        let mut scene = self.scene;
+        for note in self.assets.notes {
+            scene.add_note(note);
+        }
+        scene
+    }
+
+    /// Reads one complete block.
+    pub fn block(
+        &mut self,
+        kind: BlockKind,
+        header: Site,
+        entries: &[Entry<'_>],
+        values: &[Word<'_>],
+        index: u32,
+        diags: &mut Diags,
+    ) {
+        let mut fields = std::mem::take(&mut self.spare);
+        fields.list.clear();
+        fields.failed.clear();
+        for e in entries {
+            match kind.lookup(e.key) {
+                Some((name, k)) => match parse_entry(e, values, name, k, diags) {
+                    Some(f) => fields.list.push(f),
+                    None => fields.failed.push(name),
+                },
+                None if is_known_key(e.key) => diags.warn(
+                    e.key_site,
+                    format!(
+                        "`{}=` is not used by a `{}` block; ignored",
+                        e.key, kind.title
+                    ),
+                    None,
+                ),
+                None => diags.warn(
+                    e.key_site,
+                    format!(
+                        "unknown key `{}=` in a `{}` block; ignored",
+                        e.key, kind.title
+                    ),
+                    closest(e.key, &kind.key_names()).map(|c| format!("did you mean `{c}=`?")),
+                ),
+            }
+        }
+        let mut b = Block {
+            title: kind.title,
+            header,
+            fields,
+            diags,
+        };
+        match kind.build {
+            Build::Background(build) => {
+                self.backgrounds += 1;
+                second_block(self.backgrounds, "background", &mut b);
+                let bg = build(self.scene.background(), &mut b);
+                self.scene.set_background(bg);
+            }
+            Build::Camera(build) => {
+                self.cameras += 1;
+                second_block(self.cameras, "camera", &mut b);
+                let cam = build(self.scene.camera().clone(), &mut b);
+                self.scene.set_camera(cam);
+            }
+            Build::Light(build) => self.light(build, &mut b),
+            Build::Primitive(build) => self.primitive(build, index, &mut b),
+        }
+        self.spare = b.fields;
+    }
+
+    /// A light: its kind's keys, and the colour every light has.
+    fn light(
+        &mut self,
+        build: fn(&mut Block<'_>) -> Option<crate::scene::LightKind>,
+        b: &mut Block<'_>,
+    ) {
+        let errors = b.diags.error_count();
+        let color = match b.fields.v3("color") {
+            Some((c, _)) => c,
+            None => {
+                if !b.fields.failed("color") {
+                    b.diags.warn(
+                        b.header,
+                        "this light has no `color=`; it gives no light",
+                        Some("add e.g. `color= 1 1 1`".to_string()),
+                    );
+                }
+                DVec3::ZERO
+            }
+        };
+        let intensity = b.fields.v3("intensity").map_or(DVec3::ONE, |(v, _)| v);
+        if let Some(kind) = build(b)
+            && b.diags.error_count() == errors
+        {
+            self.scene.add_light(Light {
+                kind,
+                color: color * intensity,
+            });
+        }
+    }
+
+    /// A primitive: its material, then its kind's shapes, added as block `index`.
+    fn primitive(
+        &mut self,
+        build: fn(&mut Assets, &mut Block<'_>) -> super::shapes::Shapes,
+        index: u32,
+        b: &mut Block<'_>,
+    ) {
+        let errors = b.diags.error_count();
+        let scene = &mut self.scene;
+        let material = blocks::material(&mut self.assets, b, &mut |t| scene.add_texture(t));
+        let shapes = build(&mut self.assets, b);
+        if b.diags.error_count() != errors {
+            return;
+        }
+        if let (Some(m), Some(shapes)) = (material, shapes) {
+            let m = self.scene.add_material(m);
+            for s in shapes {
+                self.scene.add_object(s, m, index);
+            }
+        }
+    }
+}
+
+/// Warns at the second block of a kind that should appear once.
+fn second_block(count: u32, what: &str, b: &mut Block<'_>) {
+    if count == 2 {
+        b.diags.warn(
+            b.header,
+            format!("a second `{what}` block; its keys override the first's"),
+            None,
+        );
+    }
+}

@@ -1,0 +1,223 @@
+//! The schema of the format: one row per block kind, holding its header,
+//! its keys with the shape of their values, and the function that builds
+//! it. A new primitive kind is one row here (and its build function).
+
+use super::assets::Assets;
+use super::block::Block;
+use super::values::Kind::{self, Count, Num, OneOrThree, Text, Vec2, Vec3};
+use super::{blocks, shapes};
+use crate::scene::{Background, Camera, LightKind};
+
+/// A key's name (without `=`) and the shape of its values.
+type Keys = &'static [(&'static str, Kind)];
+
+const MATERIAL_KEYS: Keys = &[
+    ("color", Vec3),
+    ("diff", Num),
+    ("spec", Num),
+    ("refl", Num),
+    ("drefl", Num),
+    ("blur", Text),
+    ("refr", Num),
+    ("rindex", Num),
+    ("absor", Vec3),
+    ("texture", Text),
+];
+
+const BACKGROUND_KEYS: Keys = &[("color", Vec3), ("top", Vec3), ("bottom", Vec3)];
+
+const CAMERA_KEYS: Keys = &[
+    ("O", Vec3),
+    ("N", Vec3),
+    ("lens_W", Num),
+    ("lens_H", Num),
+    ("image_W", Count),
+    ("image_H", Count),
+    ("shade_quality", Count),
+    ("drefl_quality", Count),
+    ("max_photons", Count),
+    ("emit_photons", Count),
+    ("sample_photons", Count),
+    ("sample_dist", Num),
+    ("aperture", Num),
+    ("focalLen", Num),
+    ("dofSample", Count),
+    ("max_hitpoints", Count),
+    ("iterations", Count),
+    ("reduction", Num),
+];
+
+const LIGHT_COMMON_KEYS: Keys = &[("color", Vec3), ("intensity", OneOrThree)];
+const POINT_LIGHT_KEYS: Keys = &[("O", Vec3)];
+const SQUARE_LIGHT_KEYS: Keys = &[("O", Vec3), ("Dx", Vec3), ("Dy", Vec3)];
+const SPHERE_LIGHT_KEYS: Keys = &[("O", Vec3), ("R", Num)];
+
+const SPHERE_KEYS: Keys = &[("O", Vec3), ("R", Num), ("De", Vec3), ("Dc", Vec3)];
+const PLANE_KEYS: Keys = &[("N", Vec3), ("R", Num), ("Dx", Vec3), ("Dy", Vec3)];
+const SQUARE_KEYS: Keys = &[("O", Vec3), ("Dx", Vec3), ("Dy", Vec3)];
+const CUBE_KEYS: Keys = &[
+    ("O", Vec3),
+    ("Dx", Vec3),
+    ("Dy", Vec3),
+    ("x", Num),
+    ("y", Num),
+    ("z", Num),
+];
+const CYLINDER_KEYS: Keys = &[("O1", Vec3), ("O2", Vec3), ("R", Num)];
+const BEZIER_KEYS: Keys = &[("O1", Vec3), ("O2", Vec3), ("P", Vec2)];
+const TRIANGLE_KEYS: Keys = &[("O1", Vec3), ("O2", Vec3), ("O3", Vec3)];
+const MESH_KEYS: Keys = &[
+    ("file", Text),
+    ("O", Vec3),
+    ("scale", OneOrThree),
+    ("rotation", Vec3),
+];
+
+/// What a block's function builds from its keys.
+#[derive(Clone, Copy)]
+pub(crate) enum Build {
+    /// The background, over the one so far.
+    Background(fn(Background, &mut Block<'_>) -> Background),
+    /// The camera, over the one so far.
+    Camera(fn(Camera, &mut Block<'_>) -> Camera),
+    /// A light's shape and position (its colour is common to every light).
+    Light(fn(&mut Block<'_>) -> Option<LightKind>),
+    /// A primitive's shapes (its material is common to every primitive).
+    Primitive(fn(&mut Assets, &mut Block<'_>) -> shapes::Shapes),
+}
+
+/// One kind of block.
+pub(crate) struct Row {
+    /// The type word after `light` or `primitive` (the header itself for
+    /// `background` and `camera`).
+    pub name: &'static str,
+    /// The header as written (`primitive sphere`).
+    pub title: &'static str,
+    /// The keys of this kind.
+    keys: Keys,
+    /// The keys every block of its class shares (material, light colour).
+    common: Keys,
+    /// What builds it.
+    pub build: Build,
+}
+
+/// What a block describes: its row of the schema.
+pub(crate) type BlockKind = &'static Row;
+
+/// The `background` block.
+pub(crate) static BACKGROUND: Row = Row {
+    name: "background",
+    title: "background",
+    keys: BACKGROUND_KEYS,
+    common: &[],
+    build: Build::Background(blocks::background),
+};
+
+/// The `camera` block.
+pub(crate) static CAMERA: Row = Row {
+    name: "camera",
+    title: "camera",
+    keys: CAMERA_KEYS,
+    common: &[],
+    build: Build::Camera(blocks::camera),
+};
+
+/// The `light TYPE` blocks.
+pub(crate) static LIGHTS: [Row; 3] = [
+    Row {
+        name: "point",
+        title: "light point",
+        keys: POINT_LIGHT_KEYS,
+        common: LIGHT_COMMON_KEYS,
+        build: Build::Light(blocks::point_light),
+    },
+    Row {
+        name: "square",
+        title: "light square",
+        keys: SQUARE_LIGHT_KEYS,
+        common: LIGHT_COMMON_KEYS,
+        build: Build::Light(blocks::square_light),
+    },
+    Row {
+        name: "sphere",
+        title: "light sphere",
+        keys: SPHERE_LIGHT_KEYS,
+        common: LIGHT_COMMON_KEYS,
+        build: Build::Light(blocks::sphere_light),
+    },
+];
+
+/// A `primitive TYPE` row.
+const fn primitive(
+    name: &'static str,
+    title: &'static str,
+    keys: Keys,
+    build: fn(&mut Assets, &mut Block<'_>) -> shapes::Shapes,
+) -> Row {
+    Row {
+        name,
+        title,
+        keys,
+        common: MATERIAL_KEYS,
+        build: Build::Primitive(build),
+    }
+}
+
+/// The `primitive TYPE` blocks.
+pub(crate) static PRIMITIVES: [Row; 8] = [
+    primitive("sphere", "primitive sphere", SPHERE_KEYS, shapes::sphere),
+    primitive("plane", "primitive plane", PLANE_KEYS, shapes::plane),
+    primitive("square", "primitive square", SQUARE_KEYS, shapes::square),
+    primitive("cube", "primitive cube", CUBE_KEYS, shapes::cube),
+    primitive(
+        "cylinder",
+        "primitive cylinder",
+        CYLINDER_KEYS,
+        shapes::cylinder,
+    ),
+    primitive("bezier", "primitive bezier", BEZIER_KEYS, shapes::bezier),
+    primitive(
+        "triangle",
+        "primitive triangle",
+        TRIANGLE_KEYS,
+        shapes::triangle,
+    ),
+    primitive("mesh", "primitive mesh", MESH_KEYS, shapes::mesh),
+];
+
+/// The row of type `name` among `rows`.
+pub(crate) fn find(rows: &'static [Row], name: &str) -> Option<BlockKind> {
+    rows.iter().find(|r| r.name == name)
+}
+
+/// The type names of `rows`, in order (for suggestions and messages).
+pub(crate) fn names(rows: &'static [Row]) -> Vec<&'static str> {
+    rows.iter().map(|r| r.name).collect()
+}
+
+impl Row {
+    /// The key's canonical name and kind, if this block uses it.
+    pub fn lookup(&self, key: &str) -> Option<(&'static str, Kind)> {
+        self.keys
+            .iter()
+            .chain(self.common)
+            .find(|(k, _)| *k == key)
+            .copied()
+    }
+
+    /// The keys this block uses (without `=`).
+    pub fn key_names(&self) -> Vec<&'static str> {
+        self.keys
+            .iter()
+            .chain(self.common)
+            .map(|(k, _)| *k)
+            .collect()
+    }
+}
+
+/// Whether some block kind uses `key`.
+pub(crate) fn is_known_key(key: &str) -> bool {
+    let rows = [&BACKGROUND, &CAMERA].into_iter();
+    let mut all = rows.chain(&LIGHTS).chain(&PRIMITIVES);
+    all.any(|r| r.lookup(key).is_some())
+}

@@ -1,0 +1,358 @@
+//! The values of `key= values` lines: numbers, vectors and text, parsed
+//! and checked against the shape each key expects.
+
+use super::diags::{Diags, Site};
+use super::lexer::Word;
+use glam::{DVec2, DVec3};
+use std::ops::Range;
+
+/// Largest magnitude accepted for a number: far beyond any scene, and small
+/// enough that products of a few coordinates cannot overflow.
+const MAX_MAGNITUDE: f64 = 1e100;
+
+/// Two unit directions closer to parallel than this (sine of the angle)
+/// span no area.
+pub(crate) const PARALLEL_SINE: f64 = 1e-12;
+
+/// The shape of a key's values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Kind {
+    /// One number.
+    Num,
+    /// One whole number ≥ 0.
+    Count,
+    /// Two numbers.
+    Vec2,
+    /// Three numbers.
+    Vec3,
+    /// One number (used for all three) or three.
+    OneOrThree,
+    /// The rest of the line (a file name, a blur name).
+    Text,
+}
+
+pub(crate) use Kind::{Count, Num, OneOrThree, Text, Vec2, Vec3};
+
+/// One `key= values` line of a block, as read.
+#[derive(Clone, Debug)]
+pub(crate) struct Entry<'a> {
+    /// The key without `=`.
+    pub key: &'a str,
+    /// Where the key (with its `=`) is.
+    pub key_site: Site,
+    /// Where the words after `=` lie in the block's list of values.
+    pub values: Range<usize>,
+    /// 0-based line index.
+    pub line: usize,
+    /// The line's text (for values that are the rest of the line).
+    pub raw: &'a str,
+}
+
+/// A parsed value.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum Value {
+    Num(f64),
+    V2(DVec2),
+    V3(DVec3),
+    Text(String),
+}
+
+/// A key with its parsed value and where it was.
+#[derive(Clone, Debug)]
+pub(crate) struct Field {
+    /// The key's canonical name.
+    pub name: &'static str,
+    /// Its parsed value.
+    pub value: Value,
+    /// From the key to the last value.
+    pub site: Site,
+}
+
+/// The parsed keys of one block, in file order.
+#[derive(Default)]
+pub(crate) struct Fields {
+    /// In file order.
+    pub list: Vec<Field>,
+    /// Keys that were present but whose values were wrong (already reported).
+    pub failed: Vec<&'static str>,
+}
+
+impl Fields {
+    /// The last (overriding) occurrence of `name`.
+    pub fn get(&self, name: &str) -> Option<&Field> {
+        self.list.iter().rev().find(|f| f.name == name)
+    }
+
+    pub fn num(&self, name: &str) -> Option<(f64, Site)> {
+        self.get(name).and_then(|f| match f.value {
+            Value::Num(x) => Some((x, f.site)),
+            _ => None,
+        })
+    }
+
+    pub fn v3(&self, name: &str) -> Option<(DVec3, Site)> {
+        self.get(name).and_then(|f| match f.value {
+            Value::V3(v) => Some((v, f.site)),
+            _ => None,
+        })
+    }
+
+    pub fn text(&self, name: &str) -> Option<(&str, Site)> {
+        self.get(name).and_then(|f| match &f.value {
+            Value::Text(s) => Some((s.as_str(), f.site)),
+            _ => None,
+        })
+    }
+
+    pub fn failed(&self, name: &str) -> bool {
+        self.failed.contains(&name)
+    }
+}
+
+/// Why a word is not a usable number.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum NumberError {
+    /// Not a decimal number at all.
+    Malformed,
+    /// `inf`, `nan` and the like.
+    NotFinite,
+    /// Beyond ±1e100 (including overflow such as `1e999`).
+    TooLarge,
+}
+
+/// Parses a decimal number: optional sign, digits with an optional `.`
+/// (either side may be empty, not both), optional exponent.
+pub(crate) fn parse_number(s: &str) -> Result<f64, NumberError> {
+    let b = s.as_bytes();
+    let mut i = 0;
+    if matches!(b.first(), Some(b'+' | b'-')) {
+        i += 1;
+    }
+    let unsigned = &s[i..];
+    if ["inf", "infinity", "nan"]
+        .iter()
+        .any(|w| unsigned.eq_ignore_ascii_case(w))
+    {
+        return Err(NumberError::NotFinite);
+    }
+    let digits = |i: &mut usize| {
+        let start = *i;
+        while b.get(*i).is_some_and(u8::is_ascii_digit) {
+            *i += 1;
+        }
+        *i - start
+    };
+    let mut mantissa = digits(&mut i);
+    if b.get(i) == Some(&b'.') {
+        i += 1;
+        mantissa += digits(&mut i);
+    }
+    if mantissa == 0 {
+        return Err(NumberError::Malformed);
+    }
+    if matches!(b.get(i), Some(b'e' | b'E')) {
+        i += 1;
+        if matches!(b.get(i), Some(b'+' | b'-')) {
+            i += 1;
+        }
+        if digits(&mut i) == 0 {
+            return Err(NumberError::Malformed);
+        }
+    }
+    if i != b.len() {
+        return Err(NumberError::Malformed);
+    }
+    let x: f64 = s.parse().map_err(|_| NumberError::Malformed)?;
+    if !x.is_finite() || x.abs() > MAX_MAGNITUDE {
+        return Err(NumberError::TooLarge);
+    }
+    Ok(x)
+}
+
+/// What a kind of value looks like, for messages.
+fn describe(name: &str, kind: Kind) -> &'static str {
+    match kind {
+        Num => "a number",
+        Count => "a whole number",
+        Vec2 => "2 numbers (z r)",
+        Vec3 => "3 numbers",
+        OneOrThree => "1 or 3 numbers",
+        Text if name == "blur" => "a blur name (`exp`)",
+        Text => "a file name",
+    }
+}
+
+/// Parses an entry's values as `kind`, reporting what is wrong.
+pub(crate) fn parse_entry(
+    e: &Entry<'_>,
+    values: &[Word<'_>],
+    name: &'static str,
+    kind: Kind,
+    diags: &mut Diags,
+) -> Option<Field> {
+    let values = values.get(e.values.clone()).unwrap_or_default();
+    let line = e.line;
+    let site = match values.last() {
+        Some(last) => Site {
+            line,
+            col: e.key_site.col,
+            len: (last.col + last.len).saturating_sub(e.key_site.col).max(1),
+        },
+        None => e.key_site,
+    };
+    let what = describe(name, kind);
+    let (Some(first), Some(last)) = (values.first(), values.last()) else {
+        diags.error(
+            e.key_site,
+            format!("`{}=` expects {what}, found nothing", e.key),
+            None,
+        );
+        return None;
+    };
+    if kind == Text {
+        let text = e
+            .raw
+            .get(first.start..last.start + last.text.len())
+            .unwrap_or(first.text);
+        return Some(Field {
+            name,
+            value: Value::Text(text.to_string()),
+            site,
+        });
+    }
+    // No kind takes more than 3 numbers; with more, the count is an error.
+    let mut numbers = [0.0; 3];
+    let mut ok = true;
+    for (k, w) in values.iter().enumerate() {
+        match parse_number(w.text) {
+            Ok(x) => {
+                if let Some(slot) = numbers.get_mut(k) {
+                    *slot = x;
+                }
+            }
+            Err(err) => {
+                ok = false;
+                let message = match err {
+                    NumberError::Malformed => {
+                        format!("expected a number after `{}=`, found `{}`", e.key, w.text)
+                    }
+                    NumberError::NotFinite => format!("`{}` is not a finite number", w.text),
+                    NumberError::TooLarge => {
+                        format!("`{}` is too large (numbers must lie within ±1e100)", w.text)
+                    }
+                };
+                diags.error(Site::word(line, w), message, None);
+            }
+        }
+    }
+    let n = values.len();
+    let counts: &[usize] = match kind {
+        Num | Count => &[1],
+        Vec2 => &[2],
+        Vec3 => &[3],
+        OneOrThree => &[1, 3],
+        Text => &[],
+    };
+    let max = counts.iter().copied().max().unwrap_or(1);
+    if n > max {
+        let extra = &values[max];
+        diags.error(
+            Site::span(line, extra, last),
+            format!("`{}=` expects {what}, found {n}", e.key),
+            None,
+        );
+        return None;
+    }
+    if !counts.contains(&n) {
+        diags.error(
+            site,
+            format!("`{}=` expects {what}, found {n}", e.key),
+            None,
+        );
+        return None;
+    }
+    if !ok {
+        return None;
+    }
+    let value = match kind {
+        Num => Value::Num(numbers[0]),
+        Count => {
+            let x = numbers[0];
+            if x < 0.0 {
+                diags.error(
+                    Site::word(line, first),
+                    format!("`{}=` must not be negative, found {x}", e.key),
+                    None,
+                );
+                return None;
+            }
+            if x.fract() != 0.0 {
+                diags.error(
+                    Site::word(line, first),
+                    format!(
+                        "`{}=` expects a whole number, found `{}`",
+                        e.key, first.text
+                    ),
+                    None,
+                );
+                return None;
+            }
+            Value::Num(x)
+        }
+        Vec2 => Value::V2(DVec2::new(numbers[0], numbers[1])),
+        Vec3 => Value::V3(DVec3::new(numbers[0], numbers[1], numbers[2])),
+        OneOrThree if n == 1 => Value::V3(DVec3::splat(numbers[0])),
+        OneOrThree => Value::V3(DVec3::new(numbers[0], numbers[1], numbers[2])),
+        Text => return None,
+    };
+    Some(Field { name, value, site })
+}
+/// The unit vector along `v`, or `None` when `v` has zero length (scaled
+/// first so tiny or huge components neither underflow nor overflow).
+pub(crate) fn unit(v: DVec3) -> Option<DVec3> {
+    let m = v.abs().max_element();
+    if m == 0.0 || !m.is_finite() {
+        return None;
+    }
+    let w = v / m;
+    Some(w / w.length())
+}
+
+/// Whether two unit vectors are (numerically) parallel.
+pub(crate) fn parallel(a: DVec3, b: DVec3) -> bool {
+    a.cross(b).length() <= PARALLEL_SINE
+}
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers() {
+        assert_eq!(parse_number(".5"), Ok(0.5));
+        assert_eq!(parse_number("-1e-3"), Ok(-1e-3));
+        assert_eq!(parse_number("+2"), Ok(2.0));
+        assert_eq!(parse_number("1."), Ok(1.0));
+        assert_eq!(parse_number("1E+2"), Ok(100.0));
+        assert_eq!(parse_number("."), Err(NumberError::Malformed));
+        assert_eq!(parse_number("1e"), Err(NumberError::Malformed));
+        assert_eq!(parse_number("1.2.3"), Err(NumberError::Malformed));
+        assert_eq!(parse_number("0x10"), Err(NumberError::Malformed));
+        assert_eq!(parse_number("1,5"), Err(NumberError::Malformed));
+        assert_eq!(parse_number(""), Err(NumberError::Malformed));
+        assert_eq!(parse_number("-"), Err(NumberError::Malformed));
+        assert_eq!(parse_number("inf"), Err(NumberError::NotFinite));
+        assert_eq!(parse_number("-NaN"), Err(NumberError::NotFinite));
+        assert_eq!(parse_number("1e999"), Err(NumberError::TooLarge));
+        assert_eq!(parse_number("-1e101"), Err(NumberError::TooLarge));
+        assert_eq!(parse_number("1e-999"), Ok(0.0));
+    }
+
+    #[test]
+    fn unit_vectors() {
+        assert_eq!(unit(DVec3::ZERO), None);
+        let u = unit(DVec3::new(1e-200, 0.0, 0.0));
+        assert_eq!(u, Some(DVec3::X));
+        let u = unit(DVec3::new(3e100, 4e100, 0.0));
+        assert!(u.is_some_and(|u| (u - DVec3::new(0.6, 0.8, 0.0)).length() < 1e-15));
+    }
+}

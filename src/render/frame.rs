@@ -1,0 +1,405 @@
+//! One render's frame: the camera sample of every pixel and sub-pixel
+//! (its ray and random stream), traced in packets, as the passes ask.
+
+use super::camera::CameraRays;
+use crate::accel::PACKET_MAX;
+use crate::geometry::Ray;
+use crate::integrator::{
+    Integrator, NoObserver, PathObserver, PathState, RayCounts, ShadowHints, mix,
+};
+use crate::sampling::strata;
+use crate::scene::Camera;
+use glam::DVec3;
+use rand::SeedableRng;
+use rand_pcg::Pcg32;
+
+/// Sub-pixel grid of the framework's anti-aliasing.
+pub(crate) const AA_GRID: u32 = 7;
+/// Rows per rendering task, also the side of the tiles a task walks.
+pub(crate) const BAND: usize = 8;
+const _: () = assert!(
+    BAND * BAND <= PACKET_MAX && (AA_GRID * AA_GRID) as usize <= PACKET_MAX,
+    "a tile, and a pixel's grid, are one packet each"
+);
+
+/// The columns and rows of a tile of pixels.
+pub(crate) type Tile = (std::ops::Range<u32>, std::ops::Range<u32>);
+
+/// The full frame of one render: its camera rays, integrator and random streams.
+pub(crate) struct Frame<'a> {
+    pub integrator: Integrator<'a>,
+    camera: CameraRays,
+    /// The full frame's size in pixels (a region is part of it).
+    pub width: u32,
+    pub height: u32,
+    seed: u64,
+}
+
+impl<'a> Frame<'a> {
+    /// The frame of `camera` (its size already final), shading with
+    /// `integrator`, with the random streams of `seed`.
+    pub fn new(camera: &Camera, integrator: Integrator<'a>, seed: u64) -> Self {
+        let (width, height) = (camera.width, camera.height);
+        Frame {
+            integrator,
+            camera: CameraRays::new(camera, width, height),
+            width,
+            height,
+            seed,
+        }
+    }
+
+    /// The random stream of one camera sample: a hash of (pixel, sample, seed).
+    pub fn state(&self, x: u32, y: u32, sample: u32) -> PathState {
+        let pixel = y as u64 * self.width as u64 + x as u64;
+        let key = mix(mix(self.seed ^ mix(pixel)) ^ sample as u64);
+        PathState {
+            rng: Pcg32::seed_from_u64(key),
+            rays: RayCounts::default(),
+        }
+    }
+
+    /// The camera ray at sub-pixel offset (fx, fy) in [0,1)² of pixel (x, y),
+    /// fy measured downward from the pixel's top edge.
+    pub fn ray(&self, x: u32, y: u32, fx: f64, fy: f64) -> Ray {
+        // Framework row i counts from the bottom: pixel y covers i ∈ [H−1−y, H−y).
+        let i = (self.height - 1 - y) as f64 + (1.0 - fy);
+        let j = x as f64 + fx;
+        self.camera.ray(i, j)
+    }
+
+    /// Camera sample `s` of pixel (x, y) among `rows` × `cols` jittered
+    /// strata: its ray, and its random stream after the jitter was drawn.
+    pub fn jittered(&self, x: u32, y: u32, s: u32, (rows, cols): (u32, u32)) -> (Ray, PathState) {
+        use rand::Rng;
+        let (r, c) = (s / cols, s % cols);
+        let mut st = self.state(x, y, s);
+        let fx = (c as f64 + st.rng.random::<f64>()) / cols as f64;
+        let fy = (r as f64 + st.rng.random::<f64>()) / rows as f64;
+        (self.ray(x, y, fx, fy), st)
+    }
+
+    /// Traces `n` (at most [`PACKET_MAX`]) camera rays as one packet: ray k
+    /// and its random stream are `sample_of(k)`, watched by a fresh `O`.
+    /// Calls `each(k, colour, observer, rays)` in order.
+    fn packet<O: PathObserver + Default>(
+        &self,
+        n: usize,
+        sample_of: impl Fn(usize) -> (Ray, PathState),
+        mut each: impl FnMut(usize, DVec3, &O, &RayCounts),
+        hints: &mut ShadowHints,
+    ) {
+        debug_assert!(n <= PACKET_MAX);
+        // Slots past n hold placeholders; they are not traced.
+        let mut camera = [Ray::new(DVec3::ZERO, DVec3::Z); PACKET_MAX];
+        let mut states: [PathState; PACKET_MAX] = std::array::from_fn(|_| PathState {
+            rng: Pcg32::new(0, 0),
+            rays: RayCounts::default(),
+        });
+        for (k, (ray, st)) in camera.iter_mut().zip(&mut states).take(n).enumerate() {
+            (*ray, *st) = sample_of(k);
+        }
+        let mut observers: [O; PACKET_MAX] = std::array::from_fn(|_| O::default());
+        let mut colors = [DVec3::ZERO; PACKET_MAX];
+        self.integrator.trace_camera_packet(
+            &camera[..n],
+            &mut states[..n],
+            &mut observers[..n],
+            &mut colors[..n],
+            hints,
+        );
+        for k in 0..n {
+            each(k, colors[k], &observers[k], &states[k].rays);
+        }
+    }
+
+    /// Pass 2 for pixel (x, y): the mean of the framework's 7×7 grid of
+    /// camera rays, traced as one packet.
+    pub fn refine(&self, x: u32, y: u32, rays: &mut RayCounts, hints: &mut ShadowHints) -> DVec3 {
+        let g = AA_GRID as usize;
+        let at = |k: usize| ((k % g) as f64 + 0.5) / g as f64;
+        // Summed in grid order, as one ray after another would be.
+        let mut sum = DVec3::ZERO;
+        self.packet::<NoObserver>(
+            g * g,
+            |k| {
+                (
+                    self.ray(x, y, at(k), at(k / g)),
+                    self.state(x, y, 1 + k as u32),
+                )
+            },
+            |_, c, _, r| {
+                sum += c;
+                rays.add(r);
+            },
+            hints,
+        );
+        sum / (g * g) as f64
+    }
+
+    /// Pass 1 over the tile of columns `xs` and rows `ys` when a pixel takes
+    /// one ray through its centre, traced as one packet, each watched by an
+    /// `O`. Calls `put(x, y, colour, observer)` for each pixel.
+    pub fn centre_tile<O: PathObserver + Default>(
+        &self,
+        (xs, ys): Tile,
+        rays: &mut RayCounts,
+        hints: &mut ShadowHints,
+        mut put: impl FnMut(u32, u32, DVec3, &O),
+    ) {
+        let w = xs.len();
+        let pixel = |k: usize| (xs.start + (k % w) as u32, ys.start + (k / w) as u32);
+        self.packet(
+            w * ys.len(),
+            |k| {
+                let (x, y) = pixel(k);
+                (self.ray(x, y, 0.5, 0.5), self.state(x, y, 0))
+            },
+            |k, c, o, r| {
+                let (x, y) = pixel(k);
+                rays.add(r);
+                put(x, y, c, o);
+            },
+            hints,
+        );
+    }
+
+    /// Pass 1 over a tile when a pixel takes `n` (2 or more) stratified
+    /// samples: calls `put(x, y, mean)` for each pixel, the tile's samples
+    /// traced in packets.
+    pub fn stratified_tile(
+        &self,
+        (xs, ys): Tile,
+        n: u32,
+        rays: &mut RayCounts,
+        hints: &mut ShadowHints,
+        mut put: impl FnMut(u32, u32, DVec3),
+    ) {
+        let strata = strata(n);
+        let (w, n) = (xs.len() as u64, u64::from(n));
+        // Up to 64 pixels of up to 2^32 samples: u64 on any target.
+        let total = w * ys.len() as u64 * n;
+        // Sample i of the tile: pixel i / n (row by row), sample i % n. A
+        // packet may end inside a pixel; the pixel's sum runs on into the next.
+        let at = |i: u64| {
+            let p = i / n;
+            let (x, y) = (xs.start + (p % w) as u32, ys.start + (p / w) as u32);
+            (x, y, (i % n) as u32)
+        };
+        let mut sum = DVec3::ZERO;
+        let mut start = 0;
+        while start < total {
+            let len = (total - start).min(PACKET_MAX as u64);
+            self.packet::<NoObserver>(
+                len as usize,
+                |k| {
+                    let (x, y, s) = at(start + k as u64);
+                    self.jittered(x, y, s, strata)
+                },
+                |k, c, _, r| {
+                    let (x, y, s) = at(start + k as u64);
+                    // Summed in sample order, as ray after ray would be.
+                    sum += c;
+                    rays.add(r);
+                    if u64::from(s) + 1 == n {
+                        put(x, y, sum / n as f64);
+                        sum = DVec3::ZERO;
+                    }
+                },
+                hints,
+            );
+            start += len;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::integrator::{AaHash, SceneAccel};
+    use crate::scene::Scene;
+    use std::fmt::Write;
+
+    /// `scene`'s accelerator and camera, for building frames.
+    fn prepared(scene: &Scene) -> (SceneAccel, Camera) {
+        (
+            SceneAccel::build(scene.objects().to_vec()),
+            scene.camera().clone(),
+        )
+    }
+
+    /// A cloud of spheres (a deep tree), a plane, a cube and a glass ball.
+    fn scene() -> Result<Scene, crate::scene::SceneError> {
+        let mut text = String::from(
+            "camera\n O= 0 -14 6\n N= 0 1 -0.3\n image_W= 61\n image_H= 37\nend\n\
+             light point\n O= 6 -10 16\n color= 1 1 1\nend\n\
+             primitive plane\n N= 0 0 1\n R= 0\n color= 0.8 0.8 0.8\n diff= 0.8\nend\n\
+             primitive cube\n O= 3 -3 1\n Dx= 1 0 0\n Dy= 0 1 0\n x= 1\n y= 1\n z= 1\n \
+             color= 1 0 0\n diff= 0.5\n refl= 0.5\nend\n\
+             primitive sphere\n O= -2 -4 2\n R= 1\n color= 1 1 1\n refr= 0.9\n rindex= 1.5\nend\n",
+        );
+        let mut x = 0.37f64;
+        for _ in 0..3000 {
+            let mut next = || {
+                x = (x * 7919.0 + 0.123).fract();
+                x
+            };
+            let (a, b, c) = (next(), next(), next());
+            // Writing to a String cannot fail.
+            let _ = write!(
+                text,
+                "primitive sphere\n O= {} {} {}\n R= 0.12\n color= {a} {b} {c}\n diff= 0.9\nend\n",
+                10.0 * a - 5.0,
+                10.0 * b - 5.0,
+                10.0 * c + 0.5
+            );
+        }
+        Scene::parse(&text, ".")
+    }
+
+    #[test]
+    fn packets_equal_single_rays() -> Result<(), crate::scene::SceneError> {
+        let scene = scene()?;
+        let (accel, camera) = prepared(&scene);
+        let frame = Frame::new(&camera, Integrator::whitted(&scene, &camera, &accel), 7);
+        let mut hints = ShadowHints::default();
+        let mut compared = 0;
+        let mut distinct = std::collections::HashSet::new();
+        // Tiles of every shape: full, cut at the right and bottom edges.
+        for (xs, ys) in [
+            (0..8, 0..8),
+            (56..61, 8..16),
+            (8..16, 32..37),
+            (0..61, 20..21),
+        ] {
+            let mut rays = RayCounts::default();
+            frame.centre_tile((xs, ys), &mut rays, &mut hints, |x, y, c, hash: &AaHash| {
+                let mut st = frame.state(x, y, 0);
+                let mut want_hash = AaHash::default();
+                let mut alone = ShadowHints::default();
+                let want = frame.integrator.trace_camera(
+                    &frame.ray(x, y, 0.5, 0.5),
+                    &mut st,
+                    &mut want_hash,
+                    &mut alone,
+                );
+                assert_eq!(c, want, "pixel {x} {y}");
+                assert_eq!(*hash, want_hash, "pixel {x} {y}");
+                distinct.insert(hash.folded());
+                compared += 1;
+            });
+            assert!(rays.camera > 0 && rays.shadow > 0);
+        }
+        assert_eq!(compared, 64 + 40 + 40 + 61);
+        // Pass 2: a pixel's 7×7 grid as one packet, against ray after ray.
+        for (x, y) in [(0, 0), (30, 18), (60, 36), (12, 25)] {
+            let mut rays = RayCounts::default();
+            let got = frame.refine(x, y, &mut rays, &mut hints);
+            let mut want = DVec3::ZERO;
+            let mut want_rays = RayCounts::default();
+            for a in 0..AA_GRID {
+                for b in 0..AA_GRID {
+                    let mut st = frame.state(x, y, 1 + a * AA_GRID + b);
+                    let fx = (b as f64 + 0.5) / AA_GRID as f64;
+                    let fy = (a as f64 + 0.5) / AA_GRID as f64;
+                    want += frame.integrator.trace_camera(
+                        &frame.ray(x, y, fx, fy),
+                        &mut st,
+                        &mut NoObserver,
+                        &mut hints,
+                    );
+                    want_rays.add(&st.rays);
+                }
+            }
+            assert_eq!(got, want / (AA_GRID * AA_GRID) as f64, "pixel {x} {y}");
+            assert_eq!(rays, want_rays);
+        }
+        // Not a blank picture: many different objects were seen.
+        assert!(distinct.len() > 20, "{} distinct hashes", distinct.len());
+        Ok(())
+    }
+
+    /// Pixel (x, y)'s mean of `n` stratified samples traced ray after ray
+    /// (the samples [`Frame::jittered`] gives), and the rays that took.
+    fn stratified_alone(frame: &Frame, x: u32, y: u32, n: u32) -> (DVec3, RayCounts) {
+        let strata = strata(n);
+        let mut rays = RayCounts::default();
+        let mut sum = DVec3::ZERO;
+        for s in 0..n {
+            let (ray, mut st) = frame.jittered(x, y, s, strata);
+            let mut alone = ShadowHints::default();
+            sum += frame
+                .integrator
+                .trace_camera(&ray, &mut st, &mut NoObserver, &mut alone);
+            rays.add(&st.rays);
+        }
+        (sum / n as f64, rays)
+    }
+
+    #[test]
+    fn stratified_packets_equal_single_rays() -> Result<(), crate::scene::SceneError> {
+        let scene = scene()?;
+        let (accel, camera) = prepared(&scene);
+        let frame = Frame::new(&camera, Integrator::whitted(&scene, &camera, &accel), 11);
+        let mut hints = ShadowHints::default();
+        // Sample counts whose packets hold many pixels, end inside a pixel
+        // (6, 9, 43) or cover part of one (70); tiles whole, and cut at the
+        // right and bottom edges.
+        for (n, (xs, ys)) in [
+            (2, (0..8, 0..8)),
+            (6, (56..61, 8..16)),
+            (9, (24..32, 16..24)),
+            (43, (8..16, 32..37)),
+            (70, (30..32, 18..19)),
+        ] {
+            let mut want_rays = RayCounts::default();
+            let mut want = std::collections::HashMap::new();
+            for y in ys.clone() {
+                for x in xs.clone() {
+                    let (c, r) = stratified_alone(&frame, x, y, n);
+                    want.insert((x, y), c);
+                    want_rays.add(&r);
+                }
+            }
+            let mut rays = RayCounts::default();
+            let mut got = std::collections::HashMap::new();
+            frame.stratified_tile((xs, ys), n, &mut rays, &mut hints, |x, y, c| {
+                assert!(got.insert((x, y), c).is_none(), "pixel {x} {y} twice");
+            });
+            assert_eq!(got, want, "{n} samples");
+            assert_eq!(rays, want_rays, "{n} samples");
+            assert!(rays.shadow > 0);
+        }
+        Ok(())
+    }
+
+    #[test]
+    fn a_stratified_render_puts_each_pixel_where_it_belongs() -> Result<(), crate::scene::SceneError>
+    {
+        let scene = scene()?;
+        let (accel, camera) = prepared(&scene);
+        let frame = Frame::new(&camera, Integrator::whitted(&scene, &camera, &accel), 3);
+        let options = crate::render::RenderOptions {
+            threads: Some(2),
+            seed: 3,
+            spp: Some(2),
+            ..Default::default()
+        };
+        let renderer = crate::render::Renderer::new(scene.clone());
+        let (film, stats) = match renderer.render_with(&options, Default::default()) {
+            Ok(done) => done,
+            Err(e) => panic!("{e}"),
+        };
+        let image = film.image();
+        let mut want_rays = RayCounts::default();
+        for y in 0..image.height() {
+            for x in 0..image.width() {
+                let (c, r) = stratified_alone(&frame, x, y, 2);
+                assert_eq!(image.pixel(x, y), c.as_vec3().to_array(), "pixel {x} {y}");
+                want_rays.add(&r);
+            }
+        }
+        assert_eq!(stats.rays, want_rays);
+        Ok(())
+    }
+}

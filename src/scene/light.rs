@@ -1,0 +1,143 @@
+//! Lights: their kinds and the geometry of each (where their shadow rays go).
+
+use crate::geometry::{Ray, Sphere, perpendiculars};
+use crate::sampling::strata;
+use glam::DVec3;
+use rand::Rng;
+use std::f64::consts::TAU;
+
+/// One light source.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Light {
+    /// Its shape and position.
+    pub kind: LightKind,
+    /// Emitted colour, `intensity=` already multiplied in.
+    pub color: DVec3,
+}
+
+impl Light {
+    /// The light's centre (where L points in the shading model).
+    pub fn center(&self) -> DVec3 {
+        match self.kind {
+            LightKind::Point { pos } => pos,
+            LightKind::Square { center, .. } | LightKind::Sphere { center, .. } => center,
+        }
+    }
+}
+
+/// The kinds of light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LightKind {
+    /// `light point`: one shadow ray, hard shadows.
+    Point {
+        /// Position.
+        pos: DVec3,
+    },
+    /// `light square`: area light over centre ± dx ± dy.
+    Square {
+        /// Centre.
+        center: DVec3,
+        /// Half-edge vector.
+        dx: DVec3,
+        /// Half-edge vector.
+        dy: DVec3,
+    },
+    /// `light sphere`: area light over a sphere.
+    Sphere {
+        /// Centre.
+        center: DVec3,
+        /// Radius.
+        radius: f64,
+    },
+}
+
+impl Light {
+    /// The box that every shadow ray towards this light ends in (`None`
+    /// for a point light, whose one ray needs none).
+    pub(crate) fn bounds(&self) -> Option<(DVec3, DVec3)> {
+        match self.kind {
+            LightKind::Point { .. } => None,
+            LightKind::Square { center, dx, dy } => {
+                let half = dx.abs() + dy.abs();
+                Some((center - half, center + half))
+            }
+            LightKind::Sphere { center, radius } => Some((center - radius, center + radius)),
+        }
+    }
+
+    /// The shade factor s in [0, 1] at `origin`: the fraction of the shadow
+    /// rays towards this light that `reaches(unit direction, distance to
+    /// the light)` lets through. A point light takes one ray; an area light
+    /// `samples`, stratified (a jittered grid over a square light,
+    /// directions stratified in the cone a sphere light subtends). Returns
+    /// s and the number of rays.
+    pub(crate) fn shade(
+        &self,
+        origin: DVec3,
+        samples: u32,
+        rng: &mut impl Rng,
+        mut reaches: impl FnMut(DVec3, f64) -> bool,
+    ) -> (f64, u64) {
+        match self.kind {
+            LightKind::Point { pos } => {
+                let to = pos - origin;
+                let dist = to.length();
+                let blocked = dist > 0.0 && !reaches(to / dist, dist);
+                (if blocked { 0.0 } else { 1.0 }, 1)
+            }
+            LightKind::Square { center, dx, dy } => {
+                let (rows, cols) = strata(samples);
+                let (cell_a, cell_b) = (2.0 / cols as f64, 2.0 / rows as f64);
+                let mut lit = 0u32;
+                for r in 0..rows {
+                    for c in 0..cols {
+                        let a = (c as f64 + rng.random::<f64>()) * cell_a - 1.0;
+                        let b = (r as f64 + rng.random::<f64>()) * cell_b - 1.0;
+                        let to = center + dx * a + dy * b - origin;
+                        let dist = to.length();
+                        if dist > 0.0 && reaches(to * (1.0 / dist), dist) {
+                            lit += 1;
+                        }
+                    }
+                }
+                let n = rows * cols;
+                (lit as f64 / n as f64, n as u64)
+            }
+            LightKind::Sphere { center, radius } => {
+                let to = center - origin;
+                let d2 = to.length_squared();
+                if d2 <= radius * radius {
+                    return (1.0, 0); // inside the light: nothing can block it
+                }
+                let dist = d2.sqrt();
+                let w = to / dist;
+                let cos_max = (1.0 - radius * radius / d2).max(0.0).sqrt();
+                let (u_axis, v_axis) = perpendiculars(w);
+                let sphere = Sphere::new(center, radius);
+                let tangent = (d2 - radius * radius).max(0.0).sqrt();
+                let (rows, cols) = strata(samples);
+                let mut lit = 0u32;
+                for r in 0..rows {
+                    for c in 0..cols {
+                        // Uniform in solid angle over the cone: cos θ uniform in [cos_max, 1].
+                        let cos_t =
+                            1.0 - (r as f64 + rng.random::<f64>()) / rows as f64 * (1.0 - cos_max);
+                        let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
+                        let phi = TAU * (c as f64 + rng.random::<f64>()) / cols as f64;
+                        let dir = (w * cos_t + (u_axis * phi.cos() + v_axis * phi.sin()) * sin_t)
+                            .normalize();
+                        // Up to the light's surface (the tangent distance for rounding at the rim).
+                        let t_light = sphere
+                            .roots(&Ray::new(origin, dir))
+                            .map_or(tangent, |(t0, _)| t0);
+                        if reaches(dir, t_light) {
+                            lit += 1;
+                        }
+                    }
+                }
+                let n = rows * cols;
+                (lit as f64 / n as f64, n as u64)
+            }
+        }
+    }
+}

@@ -1,0 +1,13 @@
+//! The crate's own test suites for its internals (geometry, the
+//! acceleration structure, the Bézier root search, light sampling),
+//! against independent references: closed forms, dense root scans,
+//! brute force. The reference helpers are shared with the integration tests.
+
+#[path = "../../tests/common/mod.rs"]
+mod common;
+
+mod accel;
+mod bezier;
+mod geometry;
+mod lights;
+mod parser;
