@@ -7,11 +7,13 @@
 
 mod build;
 mod diagnostic;
+mod escape;
 mod lexer;
 mod parser;
 mod suggest;
 
 pub use diagnostic::{Diagnostic, SceneError, Severity};
+pub use escape::escaped;
 
 use crate::geometry::Shape;
 use crate::shading::Texture;
