@@ -347,6 +347,110 @@ fn control_characters_from_a_scene_reach_the_terminal_escaped() {
         err.contains("`\\u{1b}[31mO=`") && err.contains("`\\u{1b}[2Jprimitive`"),
         "{err}"
     );
-    // The caret still lines up: the quoted line shows the escape as one space.
-    assert!(err.contains("2 |   [31mO= 1 2 3\n  |  ^^^^^^^"), "{err}");
+    // The caret still lines up: the quoted line shows the escape as its
+    // text, and the carets span it.
+    assert!(
+        err.contains("2 |  \\u{1b}[31mO= 1 2 3\n  |  ^^^^^^^^^^^^\n"),
+        "{err}"
+    );
+}
+
+/// A scene with a warning (a misspelt key) and errors (words that are no
+/// numbers, the last after a Chinese comment-like word).
+const FLAWED: &str = "camera\n colour= 1 0 0\nend\nprimitive sphere\n R= 1 中文注释 x\nend\n";
+
+/// Runs `glint render` on a scene with `NO_COLOR` set to `no_color` (or unset).
+fn render_with_no_color(scene: &str, out: &Path, no_color: Option<&str>) -> Output {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_glint"));
+    cmd.args(["render", scene, "-o", out.to_str().unwrap(), "--quiet"]);
+    match no_color {
+        Some(v) => cmd.env("NO_COLOR", v),
+        None => cmd.env_remove("NO_COLOR"),
+    };
+    cmd.stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    cmd.output().expect("glint runs")
+}
+
+#[test]
+fn diagnostics_have_no_colour_in_a_pipe_or_with_no_color() {
+    let dir = scratch("no-colour");
+    let scene = write(&dir, "s.txt", FLAWED);
+    let out = dir.join("s.png");
+    for no_color in [None, Some(""), Some("1")] {
+        let o = render_with_no_color(&scene, &out, no_color);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(!o.stderr.contains(&0x1b), "{no_color:?}: {err:?}");
+        assert!(
+            err.contains("warning: unknown key `colour=`") && err.contains("s.txt:5:12"),
+            "{err}"
+        );
+        assert!(
+            err.ends_with("3 errors in the scene; nothing was rendered\n"),
+            "{err}"
+        );
+    }
+}
+
+#[test]
+fn carets_line_up_under_chinese_text() {
+    let dir = scratch("wide");
+    let scene = write(&dir, "s.txt", FLAWED);
+    let o = render(&scene, &dir.join("s.png"), &[]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    let block = err
+        .split("\n\n")
+        .find(|b| b.contains("found `x`"))
+        .unwrap_or_else(|| panic!("{err}"));
+    let lines: Vec<&str> = block.lines().collect();
+    let at = lines.iter().position(|l| l.starts_with("5 | "));
+    let Some(at) = at else { panic!("{block}") };
+    assert_eq!(lines[at], "5 |  R= 1 中文注释 x", "{block}");
+    // ` R= 1 ` is 6 columns and each of the 4 ideographs 2, then a blank.
+    let carets = lines[at + 1].strip_prefix("  | ").unwrap_or_default();
+    assert_eq!(carets, format!("{}^", " ".repeat(6 + 4 * 2 + 1)), "{block}");
+}
+
+/// Runs `glint render` with its output on a terminal (through `script`),
+/// with `NO_COLOR` set to `no_color` (or unset); None without `script`.
+fn render_on_a_terminal(scene: &str, out: &Path, no_color: Option<&str>) -> Option<Vec<u8>> {
+    let script = Path::new("/usr/bin/script");
+    if !script.exists() {
+        return None;
+    }
+    let line = format!(
+        "{} render {scene} -o {} --quiet",
+        env!("CARGO_BIN_EXE_glint"),
+        out.display()
+    );
+    let mut cmd = Command::new(script);
+    cmd.args(["-q", "-e", "-c", &line, "/dev/null"]);
+    match no_color {
+        Some(v) => cmd.env("NO_COLOR", v),
+        None => cmd.env_remove("NO_COLOR"),
+    };
+    cmd.stdin(Stdio::null()).stderr(Stdio::piped());
+    Some(cmd.output().expect("script runs").stdout)
+}
+
+#[test]
+fn diagnostics_are_coloured_on_a_terminal_unless_no_color() {
+    let dir = scratch("colour");
+    let scene = write(&dir, "s.txt", FLAWED);
+    let out = dir.join("s.png");
+    let Some(shown) = render_on_a_terminal(&scene, &out, None) else {
+        eprintln!("no /usr/bin/script: the terminal case is left untested");
+        return;
+    };
+    let text = String::from_utf8_lossy(&shown);
+    assert!(text.contains("s.txt:5:12"), "{text:?}");
+    assert!(text.contains("\u{1b}["), "{text:?}");
+    let shown = render_on_a_terminal(&scene, &out, Some("")).unwrap_or_default();
+    assert!(shown.contains(&0x1b), "an empty NO_COLOR does not count");
+    let shown = render_on_a_terminal(&scene, &out, Some("1")).unwrap_or_default();
+    let text = String::from_utf8_lossy(&shown);
+    assert!(text.contains("s.txt:5:12"), "{text:?}");
+    assert!(!shown.contains(&0x1b), "{text:?}");
 }

@@ -93,26 +93,24 @@ fn thread_count(s: &str) -> Result<usize, String> {
     Ok(n)
 }
 
-/// Text from a scene or a path made safe for a terminal: control characters
-/// other than line breaks and tabs (an escape sequence could recolour or
-/// clear the screen) are shown escaped, as `\u{1b}`.
+/// Text from a scene or a path made safe for a terminal: each line through
+/// [`glint::scene::escaped`] (an escape sequence could recolour or clear the
+/// screen, an override turn the text around), the line breaks kept.
 fn shown(text: &str) -> std::borrow::Cow<'_, str> {
-    let unsafe_char = |c: char| c.is_control() && c != '\n' && c != '\t';
-    if !text.chars().any(unsafe_char) {
-        return text.into();
+    if !text.contains('\n') {
+        return glint::scene::escaped(text);
     }
-    let mut out = String::with_capacity(text.len() + 16);
-    for c in text.chars() {
-        if unsafe_char(c) {
-            out.extend(c.escape_unicode());
-        } else {
-            out.push(c);
-        }
-    }
-    out.into()
+    let lines: Vec<_> = text.split('\n').map(glint::scene::escaped).collect();
+    lines.join("\n").into()
 }
 
-/// A failure to report: the message, printed as is, and exit code 2.
+/// Whether scene diagnostics are printed in colour: only to a terminal, and
+/// not when `NO_COLOR` is set to anything but the empty string.
+fn colour() -> bool {
+    std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none_or(|v| v.is_empty())
+}
+
+/// A failure to report: the message, printed escaped (if not empty), and exit code 2.
 struct Failure(String);
 
 fn main() -> ExitCode {
@@ -124,17 +122,24 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(Failure(message)) => {
-            eprintln!("{}", shown(&message));
+            if !message.is_empty() {
+                eprintln!("{}", shown(&message));
+            }
             ExitCode::from(2)
         }
     }
 }
 
-/// Reads a scene, printing its warnings; errors become a [`Failure`].
+/// Reads a scene, printing its warnings, or its errors (already escaped, so
+/// printed here, perhaps in colour) and a [`Failure`] with nothing left to say.
 fn load_scene(path: &Path) -> Result<Scene, Failure> {
-    let scene = Scene::from_file(path).map_err(|e| Failure(e.to_string()))?;
+    let colour = colour();
+    let scene = Scene::from_file(path).map_err(|e| {
+        eprintln!("{}", e.render(colour));
+        Failure(String::new())
+    })?;
     for w in scene.warnings() {
-        eprintln!("{}\n", shown(&w.to_string()));
+        eprintln!("{}\n", w.render(colour));
     }
     Ok(scene)
 }

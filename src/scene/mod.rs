@@ -7,6 +7,7 @@
 mod background;
 mod camera;
 mod diagnostic;
+mod escape;
 mod light;
 mod material;
 mod object;
@@ -15,6 +16,7 @@ mod texture;
 pub use background::Background;
 pub use camera::{Camera, DepthOfField, MAX_IMAGE_SIDE, PhotonSettings};
 pub use diagnostic::{Diagnostic, SceneError, Severity};
+pub use escape::escaped;
 pub use light::{Light, LightKind};
 pub use material::Material;
 pub use object::{Object, Origin};

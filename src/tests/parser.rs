@@ -1101,6 +1101,7 @@ fn diagnostics_render_like_rustc_without_colours() {
   |
 1 | primitive spher
   |           ^^^^^
+  |
   = help: did you mean `sphere`?"
     );
     assert!(!e.to_string().contains('\u{1b}'));
