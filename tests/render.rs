@@ -1,5 +1,7 @@
 //! Rendering tests whose expected values are computed independently here.
 
+mod common;
+
 use glam::DVec3;
 use glint::{Image, RenderOptions, Renderer, Scene};
 
@@ -317,15 +319,11 @@ fn same_seed_same_bytes_whatever_the_threads() {
 /// content: finite values, many distinct colours, not just the background.
 #[test]
 fn framework_scenes_render() {
-    let dir = std::path::Path::new("../shared/scenes/framework");
+    if common::corpus("framework").is_none() {
+        return;
+    }
     let mut count = 0;
-    for entry in
-        std::fs::read_dir(dir).expect("../shared/scenes/framework is beside the repository")
-    {
-        let path = entry.unwrap().path();
-        if path.extension().is_none_or(|e| e != "txt") {
-            continue;
-        }
+    for path in common::corpus_scenes("framework") {
         let s = Scene::from_file(&path).unwrap_or_else(|e| panic!("{e}"));
         let small = RenderOptions {
             width: Some(s.camera().width / 8),

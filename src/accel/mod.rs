@@ -16,7 +16,9 @@ mod packet;
 use crate::geometry::{Hit, Ray, Shape};
 use bvh::{Bvh, Hull, Item};
 use glam::DVec3;
-pub use packet::PACKET_MAX;
+
+/// Rays in one packet at most (longer slices are split).
+pub const PACKET_MAX: usize = 64;
 
 /// Subtrees [`Accel::shadow_reach`] keeps at most.
 const REACH: usize = 16;

@@ -5,12 +5,9 @@
 //! answer is exactly that of [`Accel::intersect`] for the same ray.
 
 use super::bvh::{FAR_SLACK, MISS, Node, Pair, RayBox, STACK_SIZE, max_num, min_num};
-use super::{Accel, Primitive};
+use super::{Accel, PACKET_MAX, Primitive};
 use crate::geometry::{Hit, Ray};
 use glam::DVec3;
-
-/// Rays in one packet at most (longer slices are split).
-pub const PACKET_MAX: usize = 64;
 
 impl<P: Primitive> Accel<P> {
     /// The nearest hit of each ray (`ray.t_min` < t, at any distance) into

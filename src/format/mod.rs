@@ -23,3 +23,21 @@ mod values;
 #[cfg(test)]
 pub(crate) use obj::load_obj;
 pub(crate) use reader::{parse_file, parse_str};
+
+use crate::scene::{Scene, SceneError};
+use std::path::Path;
+
+/// Reading scenes in the framework's format.
+impl Scene {
+    /// Reads and validates a scene file; relative texture and mesh paths
+    /// are looked up next to the file first, then in the working directory.
+    pub fn from_file(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
+        parse_file(path.as_ref())
+    }
+
+    /// Parses scene text; relative paths are looked up in `base_dir`, then
+    /// in the working directory.
+    pub fn parse(text: &str, base_dir: impl AsRef<Path>) -> Result<Scene, SceneError> {
+        parse_str(text, None, base_dir.as_ref())
+    }
+}

@@ -491,8 +491,8 @@ fn finish<'a>(mut block: Open<'a>, builder: &mut Builder<'_>, diags: &mut Diags)
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::tests::common::corpus_scenes;
     use std::io;
-    use std::path::PathBuf;
 
     /// Chunk sizes to read the test files with: tiny ones cut every block.
     const SIZES: [usize; 9] = [1, 2, 3, 5, 7, 13, 64, 4096, CHUNK];
@@ -986,31 +986,10 @@ primitive sphere
         );
     }
 
-    /// The `*.txt` scenes of `../shared/scenes/<folder>`.
-    fn shared_scenes(folder: &str) -> io::Result<Vec<PathBuf>> {
-        let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../shared/scenes")
-            .join(folder);
-        let entries = std::fs::read_dir(&dir).map_err(|e| {
-            let what = format!(
-                "{}: {e} (the shared scenes sit beside the repository)",
-                dir.display()
-            );
-            io::Error::new(e.kind(), what)
-        })?;
-        let mut files: Vec<PathBuf> = entries
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| p.extension().is_some_and(|x| x == "txt"))
-            .collect();
-        files.sort();
-        assert!(!files.is_empty(), "no scenes in {}", dir.display());
-        Ok(files)
-    }
-
     #[test]
     fn shared_scenes_read_in_chunks() -> io::Result<()> {
-        let mut paths = shared_scenes("framework")?;
-        paths.extend(shared_scenes("community")?);
+        let mut paths = corpus_scenes("framework");
+        paths.extend(corpus_scenes("community"));
         for path in paths {
             let bytes = std::fs::read(&path)?;
             let dir = path.parent().unwrap_or(Path::new("."));

@@ -1,6 +1,6 @@
 //! Shadow rays: the fraction of a light that a point sees.
 
-use super::SceneAccel;
+use super::path::SceneAccel;
 use crate::geometry::{Ray, offset_origin};
 use crate::scene::Light;
 use glam::DVec3;

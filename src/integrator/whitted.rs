@@ -4,8 +4,8 @@
 //! clamp, depth 10.
 
 use super::observer::PathObserver;
+use super::path::{PathState, SceneAccel};
 use super::visibility::{ShadowFrom, ShadowHints, shade_factor};
-use super::{PathState, SceneAccel};
 use crate::accel::PACKET_MAX;
 use crate::geometry::{Hit, Ray, offset_origin, perpendiculars};
 use crate::scene::{Camera, LightKind, Scene};

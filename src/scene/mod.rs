@@ -53,18 +53,6 @@ pub struct Scene {
 }
 
 impl Scene {
-    /// Reads and validates a scene file; relative texture and mesh paths
-    /// are looked up next to the file first, then in the working directory.
-    pub fn from_file(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
-        crate::format::parse_file(path.as_ref())
-    }
-
-    /// Parses scene text; relative paths are looked up in `base_dir`, then
-    /// in the working directory.
-    pub fn parse(text: &str, base_dir: impl AsRef<Path>) -> Result<Scene, SceneError> {
-        crate::format::parse_str(text, None, base_dir.as_ref())
-    }
-
     /// An empty scene (black background, default camera), for building scenes in code.
     pub fn empty() -> Scene {
         Scene {

@@ -1570,11 +1570,10 @@ fn obj_errors_are_messages_not_panics() {
 
 #[test]
 fn shipped_meshes_load() {
-    let path = Path::new("../shared/scenes/meshes/stanford-bunny.obj");
-    if !path.exists() {
-        eprintln!("skipped: {} not found", path.display());
+    let Some(meshes) = super::common::corpus("meshes") else {
         return;
-    }
+    };
+    let path = &meshes.join("stanford-bunny.obj");
     let start = std::time::Instant::now();
     // The transform of community/scene_final.txt.
     let tris = load_obj(
@@ -1610,7 +1609,7 @@ fn shipped_meshes_load() {
         "a ray down through the bunny's middle hits it"
     );
     for lucy in ["lucy3_tris_normalized.obj", "lucy3_tris_smooth.obj"] {
-        let path = Path::new("../shared/scenes/meshes").join(lucy);
+        let path = meshes.join(lucy);
         let tris = load_obj(&path, DVec3::ZERO, DVec3::splat(3.0), DVec3::ZERO).unwrap();
         assert!(
             tris.len() > 33_000 && tris.len() <= 33_446,

@@ -4,7 +4,7 @@
 //! brute force. The reference helpers are shared with the integration tests.
 
 #[path = "../../tests/common/mod.rs"]
-mod common;
+pub(crate) mod common;
 
 mod accel;
 mod bezier;

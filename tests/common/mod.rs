@@ -7,6 +7,48 @@
 
 pub mod bezier;
 
+use std::path::{Path, PathBuf};
+
+/// Folder `sub` of the shared scene corpus: `$GLINT_SCENES/sub`, or
+/// `../shared/scenes/sub` beside the repository. When it is not there the
+/// test says it was skipped and why, and gets `None`; with
+/// `GLINT_REQUIRE_CORPUS` set (as `.ci/run` sets it) that is a failure.
+pub fn corpus(sub: &str) -> Option<PathBuf> {
+    let root = std::env::var_os("GLINT_SCENES")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/scenes"));
+    let dir = root.join(sub);
+    if dir.is_dir() {
+        return Some(dir);
+    }
+    let why = format!(
+        "{} is not there (the shared scenes: ../shared/scenes beside the repository, or set GLINT_SCENES)",
+        dir.display()
+    );
+    if std::env::var_os("GLINT_REQUIRE_CORPUS").is_some() {
+        panic!("GLINT_REQUIRE_CORPUS is set but {why}");
+    }
+    eprintln!("skipped: {why}");
+    None
+}
+
+/// The `*.txt` scene files of corpus folder `sub`, sorted (none when the
+/// corpus is not there; see [`corpus`]).
+pub fn corpus_scenes(sub: &str) -> Vec<PathBuf> {
+    let Some(dir) = corpus(sub) else {
+        return Vec::new();
+    };
+    let entries =
+        std::fs::read_dir(&dir).unwrap_or_else(|e| panic!("cannot list {}: {e}", dir.display()));
+    let mut files: Vec<_> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "txt"))
+        .collect();
+    files.sort();
+    assert!(!files.is_empty(), "no scene files in {}", dir.display());
+    files
+}
+
 use glam::{DMat3, DQuat, DVec3, EulerRot};
 use rand::Rng;
 use rand_pcg::Pcg64;
