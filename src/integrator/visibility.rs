@@ -29,6 +29,7 @@ pub(crate) struct ShadowFrom {
 /// The shade factor s in [0, 1]: the fraction of shadow rays from `from`
 /// that reach light `index` (see [`Light::shade`]). Returns s and the
 /// number of shadow rays traced; `hints` is read and updated.
+#[inline(always)]
 pub(crate) fn shade_factor(
     accel: &SceneAccel,
     light: &Light,

@@ -227,6 +227,7 @@ fn refract(d: DVec3, n: DVec3, eta: f64) -> Option<DVec3> {
 /// The mirror direction perturbed by the `exp` blur: offset by
 /// drefl·(x·a1 + y·a2) with radius 2^u − 1 and a uniform angle. A direction
 /// pushed below the surface is folded back above it.
+#[inline(always)]
 fn glossy_direction(
     mirror: DVec3,
     side: DVec3,
