@@ -58,28 +58,23 @@ impl Block<'_> {
 
     /// A required radius > 0.
     pub fn radius(&mut self, key: &str) -> Option<f64> {
-        let (r, site) = self.need_num(key, "the radius")?;
-        if r > 0.0 {
-            Some(r)
-        } else {
-            self.diags.error(
-                site,
-                format!("the radius `{key}=` must be greater than 0, found {r}"),
-                None,
-            );
-            None
-        }
+        self.positive(key, "the radius", "the radius")
     }
 
     /// A required half-length > 0 (cubes).
     pub fn half_length(&mut self, key: &str) -> Option<f64> {
-        let (x, site) = self.need_num(key, "a half-length")?;
+        self.positive(key, "a half-length", "the half-length")
+    }
+
+    /// A required number > 0: `what` it is when missing, `the` when wrong.
+    fn positive(&mut self, key: &str, what: &str, the: &str) -> Option<f64> {
+        let (x, site) = self.need_num(key, what)?;
         if x > 0.0 {
             Some(x)
         } else {
             self.diags.error(
                 site,
-                format!("the half-length `{key}=` must be greater than 0, found {x}"),
+                format!("{the} `{key}=` must be greater than 0, found {x}"),
                 None,
             );
             None
