@@ -34,12 +34,12 @@ mod sampling;
 pub mod scene;
 
 pub use geometry::Shape;
-pub use integrator::RayCounts;
+pub use integrator::{Blocker, HitInfo, LightTerm, RayCounts, RayKind, RayNode};
 pub use output::{Format, Image, SaveError};
 pub use probe::{ProbeHit, RayError, parse_ray, to_json, to_text};
 pub use render::{
-    Control, Film, MAX_THREADS, Plane, Region, RenderError, RenderOptions, RenderStats, Renderer,
-    Stage, memory_needed,
+    Control, Explanation, Film, MAX_THREADS, Plane, Region, RenderError, RenderOptions,
+    RenderStats, Renderer, Sampling, Stage, memory_needed,
 };
 pub use scene::{Scene, SceneError};
 

@@ -25,6 +25,48 @@ enum Command {
     Render(RenderArgs),
     /// Print the first hit of each ray of a file (one `ox oy oz dx dy dz` per line).
     Probe(ProbeArgs),
+    /// Explain one pixel: its ray tree as `render` traces it, its bytes and why.
+    Explain(ExplainArgs),
+}
+
+#[derive(Args)]
+struct ExplainArgs {
+    /// The scene file.
+    scene: PathBuf,
+    /// The pixel, `X,Y` (column, row from the top, from 0).
+    #[arg(long, value_parser = pixel)]
+    pixel: (u32, u32),
+    /// Image width in pixels, as for `render`.
+    #[arg(long)]
+    width: Option<u32>,
+    /// Image height in pixels, as for `render`.
+    #[arg(long)]
+    height: Option<u32>,
+    /// Seed of the random streams, as for `render`.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Stratified samples per pixel, as for `render` (default: adaptive anti-aliasing).
+    #[arg(long, value_parser = at_least_one::<u32>)]
+    spp: Option<u32>,
+    /// List every ray of glossy fans and every sample, instead of summing them up.
+    #[arg(long)]
+    expand: bool,
+    /// One JSON object (schema: docs/debugging.md).
+    #[arg(long)]
+    json: bool,
+}
+
+/// Parses `--pixel X,Y`.
+fn pixel(s: &str) -> Result<(u32, u32), String> {
+    let (x, y) = s
+        .split_once(',')
+        .ok_or_else(|| "expected `X,Y`, e.g. `--pixel 412,300`".to_string())?;
+    let n = |v: &str| {
+        v.trim()
+            .parse::<u32>()
+            .map_err(|e| format!("`{}` is not a pixel coordinate: {e}", v.trim()))
+    };
+    Ok((n(x)?, n(y)?))
 }
 
 #[derive(Args)]
@@ -118,6 +160,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Render(args) => run_render(args),
         Command::Probe(args) => run_probe(args),
+        Command::Explain(args) => run_explain(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -245,6 +288,30 @@ fn check_memory(w: u32, h: u32) -> Result<(), Failure> {
         ))),
         _ => Ok(()),
     }
+}
+
+fn run_explain(args: ExplainArgs) -> Result<(), Failure> {
+    let scene = load_scene(&args.scene)?;
+    let options = RenderOptions {
+        threads: Some(1),
+        seed: args.seed,
+        spp: args.spp,
+        width: args.width,
+        height: args.height,
+        region: None,
+    };
+    let renderer = Renderer::new(scene);
+    let (x, y) = args.pixel;
+    let e = renderer.explain(&options, x, y).map_err(render_failure)?;
+    // JSON escapes what it must itself; text goes through `shown`, which
+    // escapes what a terminal would obey in the file name.
+    let text = if args.json {
+        format!("{}\n", e.to_json(args.expand))
+    } else {
+        shown(&e.to_text(args.expand)).into_owned()
+    };
+    let _ = std::io::stdout().write_all(text.as_bytes());
+    Ok(())
 }
 
 fn run_probe(args: ProbeArgs) -> Result<(), Failure> {

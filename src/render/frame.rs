@@ -79,14 +79,30 @@ impl<'a> Frame<'a> {
         (self.ray(x, y, fx, fy), st)
     }
 
+    /// The camera sample of pass 1 at pixel (x, y): the ray through its
+    /// centre and random stream 0.
+    pub fn centre_sample(&self, x: u32, y: u32) -> (Ray, PathState) {
+        (self.ray(x, y, 0.5, 0.5), self.state(x, y, 0))
+    }
+
+    /// Sample `k` (row by row) of pixel (x, y)'s 7×7 anti-aliasing grid.
+    pub fn grid_sample(&self, x: u32, y: u32, k: usize) -> (Ray, PathState) {
+        let g = AA_GRID as usize;
+        let at = |k: usize| ((k % g) as f64 + 0.5) / g as f64;
+        (
+            self.ray(x, y, at(k), at(k / g)),
+            self.state(x, y, 1 + k as u32),
+        )
+    }
+
     /// Traces `n` (at most [`PACKET_MAX`]) camera rays as one packet: ray k
     /// and its random stream are `sample_of(k)`, watched by a fresh `O`.
     /// Calls `each(k, colour, observer, rays)` in order.
-    fn packet<O: PathObserver + Default>(
+    pub fn packet<O: PathObserver + Default>(
         &self,
         n: usize,
         sample_of: impl Fn(usize) -> (Ray, PathState),
-        mut each: impl FnMut(usize, DVec3, &O, &RayCounts),
+        mut each: impl FnMut(usize, DVec3, &mut O, &RayCounts),
         hints: &mut ShadowHints,
     ) {
         debug_assert!(n <= PACKET_MAX);
@@ -108,8 +124,8 @@ impl<'a> Frame<'a> {
             &mut colors[..n],
             hints,
         );
-        for k in 0..n {
-            each(k, colors[k], &observers[k], &states[k].rays);
+        for (k, observer) in observers.iter_mut().take(n).enumerate() {
+            each(k, colors[k], observer, &states[k].rays);
         }
     }
 
@@ -117,17 +133,11 @@ impl<'a> Frame<'a> {
     /// camera rays, traced as one packet.
     pub fn refine(&self, x: u32, y: u32, rays: &mut RayCounts, hints: &mut ShadowHints) -> DVec3 {
         let g = AA_GRID as usize;
-        let at = |k: usize| ((k % g) as f64 + 0.5) / g as f64;
         // Summed in grid order, as one ray after another would be.
         let mut sum = DVec3::ZERO;
         self.packet::<NoObserver>(
             g * g,
-            |k| {
-                (
-                    self.ray(x, y, at(k), at(k / g)),
-                    self.state(x, y, 1 + k as u32),
-                )
-            },
+            |k| self.grid_sample(x, y, k),
             |_, c, _, r| {
                 sum += c;
                 rays.add(r);
@@ -153,7 +163,7 @@ impl<'a> Frame<'a> {
             w * ys.len(),
             |k| {
                 let (x, y) = pixel(k);
-                (self.ray(x, y, 0.5, 0.5), self.state(x, y, 0))
+                self.centre_sample(x, y)
             },
             |k, c, o, r| {
                 let (x, y) = pixel(k);

@@ -4,11 +4,15 @@
 //! callback and a flag another thread can set to stop it.
 
 mod camera;
+mod explain;
 mod film;
 mod frame;
 mod passes;
+mod report;
 mod schedule;
+mod verdict;
 
+pub use explain::{Explanation, Sampling};
 pub use film::{Film, Plane, Region};
 pub use schedule::MAX_THREADS;
 
@@ -81,6 +85,18 @@ pub enum RenderError {
     Region {
         /// The region asked for.
         region: Region,
+        /// The frame's width.
+        frame_w: u32,
+        /// The frame's height.
+        frame_h: u32,
+    },
+    /// A pixel outside the frame.
+    #[error("the pixel ({x}, {y}) is not inside the {frame_w}x{frame_h} frame")]
+    Pixel {
+        /// Its column.
+        x: u32,
+        /// Its row (from the top).
+        y: u32,
         /// The frame's width.
         frame_w: u32,
         /// The frame's height.
@@ -185,13 +201,7 @@ impl Renderer {
                 frame_h: h,
             });
         }
-        let camera = Camera {
-            width: w,
-            height: h,
-            ..self.scene.camera().clone()
-        };
-        let integrator = Integrator::whitted(&self.scene, &camera, &self.accel);
-        let frame = Frame::new(&camera, integrator, options.seed);
+        let frame = self.frame(w, h, options.seed);
         let watch = Watch {
             progress: control.progress.unwrap_or(&|_, _| {}),
             cancel: control.cancel,
@@ -208,6 +218,45 @@ impl Renderer {
             refined_pixels: refined,
         };
         Ok((Film::new((w, h), region, image), stats))
+    }
+
+    /// Pixel (x, y) of the render `options` ask for (their region aside),
+    /// explained: the same samples the render traces there, as ray trees,
+    /// with the bytes it writes and a verdict.
+    pub fn explain(
+        &self,
+        options: &RenderOptions,
+        x: u32,
+        y: u32,
+    ) -> Result<Explanation, RenderError> {
+        let (w, h) = self.frame_size(options)?;
+        if x >= w || y >= h {
+            return Err(RenderError::Pixel {
+                x,
+                y,
+                frame_w: w,
+                frame_h: h,
+            });
+        }
+        let frame = self.frame(w, h, options.seed);
+        Ok(explain::explain_pixel(
+            &frame,
+            &self.scene,
+            &self.accel,
+            options.spp,
+            (x, y),
+        ))
+    }
+
+    /// The frame of a `w` × `h` render with the random streams of `seed`.
+    fn frame(&self, w: u32, h: u32, seed: u64) -> Frame<'_> {
+        let camera = Camera {
+            width: w,
+            height: h,
+            ..self.scene.camera().clone()
+        };
+        let integrator = Integrator::whitted(&self.scene, &camera, &self.accel);
+        Frame::new(&camera, integrator, seed)
     }
 
     /// Renders a quarter-size preview at one ray per pixel, hands it to

@@ -117,16 +117,10 @@ pub(crate) fn render_region(
     let mut refined = 0u64;
     if adaptive {
         let at = |x: u32, y: u32| (y - area.y) as usize * aw + (x - area.x) as usize;
-        let differs = |x: u32, y: u32| {
-            let hh = hashes[at(x, y)];
-            (x > 0 && hashes[at(x - 1, y)] != hh)
-                || (x + 1 < w && hashes[at(x + 1, y)] != hh)
-                || (y > 0 && hashes[at(x, y - 1)] != hh)
-                || (y + 1 < h && hashes[at(x, y + 1)] != hh)
-        };
+        let hash = |x: u32, y: u32| hashes[at(x, y)];
         let edge: Vec<(u32, u32)> = (region.y..region.y + region.height)
             .flat_map(|y| (region.x..region.x + region.width).map(move |x| (x, y)))
-            .filter(|&(x, y)| differs(x, y))
+            .filter(|&(x, y)| differs(hash, x, y, w, h))
             .collect();
         refined = edge.len() as u64;
         let n = (AA_GRID * AA_GRID) as u64;
@@ -163,6 +157,16 @@ pub(crate) fn render_region(
         crop(&pixels, area, region)
     };
     Some((pixels, rays, refined))
+}
+
+/// Whether pixel (x, y) of a `w` × `h` frame is anti-aliased: its hash
+/// (`hash(x, y)`, asked only inside the frame) differs from a 4-neighbour's.
+pub(crate) fn differs(hash: impl Fn(u32, u32) -> u32, x: u32, y: u32, w: u32, h: u32) -> bool {
+    let hh = hash(x, y);
+    (x > 0 && hash(x - 1, y) != hh)
+        || (x + 1 < w && hash(x + 1, y) != hh)
+        || (y > 0 && hash(x, y - 1) != hh)
+        || (y + 1 < h && hash(x, y + 1) != hh)
 }
 
 /// The pixels of `region` out of those of `area` (which holds it).
