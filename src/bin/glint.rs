@@ -2,8 +2,8 @@
 
 use clap::{Args, Parser, Subcommand};
 use glint::{
-    Control, Format, MAX_THREADS, RenderError, RenderOptions, Renderer, Scene, memory_needed,
-    parse_ray, to_json, to_text,
+    Aov, Control, Format, MAX_THREADS, Region, RenderError, RenderOptions, Renderer, Scene,
+    memory_needed, parse_ray, to_json, to_text,
 };
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::{BufRead, IsTerminal, Read, Write};
@@ -98,6 +98,40 @@ struct RenderArgs {
     /// Also print notes (where textures were found) and a breakdown of the rays.
     #[arg(short, long)]
     verbose: bool,
+    /// Passes to write beside the picture, comma-separated: normal, depth,
+    /// position, uv, primitive, albedo (layers of an .exr; else OUT.PASS.EXT files).
+    #[arg(long)]
+    aov: Option<String>,
+    /// Render only columns X0..X1 and rows Y0..Y1 (ends excluded, rows from
+    /// the top): `X0,Y0,X1,Y1`; its pixels are those of the whole render.
+    #[arg(long, value_parser = region)]
+    region: Option<Region>,
+}
+
+/// Parses `--region X0,Y0,X1,Y1` (ends excluded).
+fn region(s: &str) -> Result<Region, String> {
+    let n: Vec<u32> = s
+        .split(',')
+        .map(|v| {
+            v.trim()
+                .parse::<u32>()
+                .map_err(|e| format!("`{}` is not a pixel coordinate: {e}", v.trim()))
+        })
+        .collect::<Result<_, _>>()?;
+    let [x0, y0, x1, y1] = n[..] else {
+        return Err("expected `X0,Y0,X1,Y1`, e.g. `--region 0,0,64,48`".to_string());
+    };
+    if x1 <= x0 || y1 <= y0 {
+        return Err(format!(
+            "the region is empty: X1 must exceed X0 and Y1 exceed Y0 (got {s})"
+        ));
+    }
+    Ok(Region {
+        x: x0,
+        y: y0,
+        width: x1 - x0,
+        height: y1 - y0,
+    })
 }
 
 #[derive(Args)]
@@ -207,7 +241,13 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
         spp: args.spp,
         width: args.width,
         height: args.height,
-        region: None,
+        region: args.region,
+        aovs: match &args.aov {
+            Some(list) => {
+                Aov::parse_list(list).map_err(|e| Failure(format!("error: --aov: {e}")))?
+            }
+            None => Vec::new(),
+        },
     };
     let renderer = Renderer::new(scene);
     let (w, h) = renderer.frame_size(&options).map_err(render_failure)?;
@@ -236,9 +276,18 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
         .render_with(&options, control)
         .map_err(render_failure)?;
     bar.finish_and_clear();
-    film.image()
-        .save(&output)
-        .map_err(|e| Failure(format!("error: cannot write the image: {e}")))?;
+    let cannot = |e: glint::SaveError| Failure(format!("error: cannot write the image: {e}"));
+    let exr = Format::from_path(&output).is_ok_and(|f| f == Format::Exr);
+    if exr && !options.aovs.is_empty() {
+        glint::save_exr_layers(&film, &output).map_err(cannot)?;
+    } else {
+        film.image().save(&output).map_err(cannot)?;
+        if !options.aovs.is_empty() {
+            let table = renderer.primitive_table();
+            let file = renderer.scene_file();
+            glint::save_pass_images(&film, &output, &table, file.as_deref()).map_err(cannot)?;
+        }
+    }
     if !args.quiet {
         let r = stats.rays;
         eprintln!(
@@ -299,6 +348,7 @@ fn run_explain(args: ExplainArgs) -> Result<(), Failure> {
         width: args.width,
         height: args.height,
         region: None,
+        aovs: Vec::new(),
     };
     let renderer = Renderer::new(scene);
     let (x, y) = args.pixel;

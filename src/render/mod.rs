@@ -3,6 +3,7 @@
 //! as [`RenderOptions`] say: on any number of threads, with a progress
 //! callback and a flag another thread can set to stop it.
 
+mod aov;
 mod camera;
 mod explain;
 mod film;
@@ -12,6 +13,7 @@ mod report;
 mod schedule;
 mod verdict;
 
+pub use aov::Aov;
 pub use explain::{Explanation, Sampling};
 pub use film::{Film, Plane, Region};
 pub use schedule::MAX_THREADS;
@@ -43,6 +45,9 @@ pub struct RenderOptions {
     /// The part of the frame to render (`None`: all of it). Its pixels are
     /// the same bytes as those pixels of the whole render.
     pub region: Option<Region>,
+    /// Passes to store as planes of the film beside the colour, named as
+    /// [`Aov::name`] says (the picture is the same with or without them).
+    pub aovs: Vec<Aov>,
 }
 
 /// Figures about a finished render.
@@ -211,13 +216,22 @@ impl Renderer {
         });
         let (pixels, rays, refined) = done.ok_or(RenderError::Cancelled)?;
         let image = Image::from_pixels(region.width, region.height, pixels);
+        let mut film = Film::new((w, h), region, image);
+        if !options.aovs.is_empty() {
+            let planes = schedule::with_threads(options.threads, || {
+                aov::first_hit_planes(&frame, &self.scene, &self.accel, region, &options.aovs)
+            });
+            for (aov, data) in planes {
+                film.set_plane(aov.name(), aov.channels(), data);
+            }
+        }
         let stats = RenderStats {
             rays,
             elapsed: start.elapsed(),
             build: self.build,
             refined_pixels: refined,
         };
-        Ok((Film::new((w, h), region, image), stats))
+        Ok((film, stats))
     }
 
     /// Pixel (x, y) of the render `options` ask for (their region aside),
@@ -246,6 +260,25 @@ impl Renderer {
             options.spp,
             (x, y),
         ))
+    }
+
+    /// For each primitive block that made a surface (0-based index): its
+    /// shape's kind and the 1-based line of its header.
+    pub fn primitive_table(&self) -> std::collections::BTreeMap<u32, (&'static str, Option<u32>)> {
+        let mut table = std::collections::BTreeMap::new();
+        for o in self.accel.objects() {
+            if let Some(b) = o.block() {
+                table
+                    .entry(b)
+                    .or_insert_with(|| (o.shape().kind_name(), self.scene.block_line(b)));
+            }
+        }
+        table
+    }
+
+    /// The scene file's name, as given (`None`: parsed from text).
+    pub fn scene_file(&self) -> Option<String> {
+        self.scene.path().map(|p| p.display().to_string())
     }
 
     /// The frame of a `w` × `h` render with the random streams of `seed`.
