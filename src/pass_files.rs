@@ -1,7 +1,7 @@
 //! Writing a film's passes: as layers of one `.exr` beside the picture, or
 //! (any other format) one image per pass beside it, `OUT.PASS.EXT`, mapped
-//! to 8 bits (normals as 0.5 + 0.5·n; depth and position normalised, their
-//! range in a sidecar `OUT.PASS.json`; primitives as false colours with a
+//! to 8 bits (normals as 0.5 + 0.5·n; depth, position and rays normalised,
+//! their range in a sidecar `OUT.PASS.json`; primitives as false colours with a
 //! legend `OUT.primitive.json`).
 
 use crate::output::{Format, Image, SaveError, write_atomically};
@@ -158,7 +158,7 @@ pub fn save_pass_images(
             }
             _ => {
                 let ranges: Vec<(f32, f32)> = (0..p.channels).map(|c| range(p, c, &hit)).collect();
-                if matches!(p.name.as_str(), "depth" | "position") {
+                if matches!(p.name.as_str(), "depth" | "position" | "rays") {
                     sidecar = Some(serde_json::json!({
                         "min": ranges.iter().map(|r| r.0).collect::<Vec<_>>(),
                         "max": ranges.iter().map(|r| r.1).collect::<Vec<_>>(),

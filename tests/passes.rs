@@ -230,20 +230,60 @@ fn an_exr_holds_the_passes_as_layers() {
                 .unwrap_or_default()
         })
         .collect();
-    assert_eq!(
-        names,
-        [
-            "color",
-            "normal",
-            "depth",
-            "position",
-            "uv",
-            "primitive",
-            "albedo"
-        ]
-    );
+    let want: Vec<&str> = std::iter::once("color")
+        .chain(Aov::ALL.iter().map(|a| a.name()))
+        .collect();
+    assert_eq!(names, want);
     let depth = &image.layer_data[2].channel_data.list[0].sample_data;
     let want = f.plane("depth").map(|p| p.data.clone()).unwrap_or_default();
     let got: Vec<f32> = depth.values_as_f32().collect();
     assert_eq!(got, want);
+}
+
+/// Rays per pixel: at --spp 1 over a lit floor, the camera ray and one
+/// shadow ray where the floor is hit, the camera ray alone elsewhere; with
+/// the anti-aliasing, the plane adds up to the render's tally.
+#[test]
+fn the_rays_pass_counts_each_pixels_rays() {
+    let s = Scene::parse(
+        "camera\n O= 0 0 1\n N= 0 1 0\n image_W= 12\n image_H= 10\nend\n\
+         light point\n O= 0 5 6\n color= 1 1 1\nend\n\
+         primitive plane\n N= 0 0 1\n R= 0\n color= 1 1 1\n diff= 1\nend\n",
+        ".",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let r = Renderer::new(s.clone());
+    let options = RenderOptions {
+        spp: Some(1),
+        aovs: vec![Aov::Rays, Aov::Depth],
+        ..RenderOptions::default()
+    };
+    let f = r.render(&options).unwrap_or_else(|e| panic!("{e}"));
+    let rays = f.plane("rays").map(|p| p.data.clone()).unwrap_or_default();
+    let cam = s.camera();
+    for y in 0..cam.height {
+        for x in 0..cam.width {
+            let d = camera_dir(cam.dir, (cam.lens_w, cam.lens_h), (12, 10), x, y);
+            let want = if r.probe(cam.origin, d).is_some() {
+                2.0
+            } else {
+                1.0
+            };
+            assert_eq!(rays[(y * 12 + x) as usize], want, "pixel {x} {y}");
+        }
+    }
+    assert_eq!(f.planes()[0].name, "rays", "in the order asked for");
+    let (_, r, _) = film(None);
+    let adaptive = RenderOptions {
+        aovs: vec![Aov::Rays],
+        ..RenderOptions::default()
+    };
+    let (f, stats) = r
+        .render_with(&adaptive, glint::Control::default())
+        .unwrap_or_else(|e| panic!("{e}"));
+    let sum: f64 = f
+        .plane("rays")
+        .map_or(0.0, |p| p.data.iter().map(|&v| v as f64).sum());
+    assert_eq!(sum, stats.rays.total() as f64);
+    assert!(stats.refined_pixels > 0);
 }

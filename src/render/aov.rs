@@ -23,17 +23,21 @@ pub enum Aov {
     Primitive,
     /// The material's colour × its texture at the first hit.
     Albedo,
+    /// Rays traced for the pixel (camera, reflected, refracted, shadow;
+    /// the 7×7 grid's too where the anti-aliasing refined it).
+    Rays,
 }
 
 impl Aov {
     /// Every pass, in the order they are documented.
-    pub const ALL: [Aov; 6] = [
+    pub const ALL: [Aov; 7] = [
         Aov::Normal,
         Aov::Depth,
         Aov::Position,
         Aov::Uv,
         Aov::Primitive,
         Aov::Albedo,
+        Aov::Rays,
     ];
 
     /// Its name, as `--aov` takes it and as the film's plane is called.
@@ -45,6 +49,7 @@ impl Aov {
             Aov::Uv => "uv",
             Aov::Primitive => "primitive",
             Aov::Albedo => "albedo",
+            Aov::Rays => "rays",
         }
     }
 
@@ -53,7 +58,7 @@ impl Aov {
         match self {
             Aov::Normal | Aov::Position | Aov::Albedo => 3,
             Aov::Uv => 2,
-            Aov::Depth | Aov::Primitive => 1,
+            Aov::Depth | Aov::Primitive | Aov::Rays => 1,
         }
     }
 
@@ -124,6 +129,8 @@ pub(crate) fn first_hit_planes(
                                 Origin::Light(l) => -2.0 - l as f32,
                             }
                         }
+                        // Counted by the render itself, not here.
+                        Aov::Rays => {}
                         Aov::Albedo => {
                             let m = scene.material_of(object);
                             let texture = m.texture.and_then(|t| scene.textures().get(t as usize));

@@ -211,18 +211,34 @@ impl Renderer {
             progress: control.progress.unwrap_or(&|_, _| {}),
             cancel: control.cancel,
         };
+        let count = options.aovs.contains(&Aov::Rays);
         let done = schedule::with_threads(options.threads, || {
-            render_region(&frame, region, options.spp, &watch)
+            render_region(&frame, region, options.spp, count, &watch)
         });
-        let (pixels, rays, refined) = done.ok_or(RenderError::Cancelled)?;
-        let image = Image::from_pixels(region.width, region.height, pixels);
+        let done = done.ok_or(RenderError::Cancelled)?;
+        let (rays, refined) = (done.rays, done.refined);
+        let image = Image::from_pixels(region.width, region.height, done.pixels);
         let mut film = Film::new((w, h), region, image);
-        if !options.aovs.is_empty() {
-            let planes = schedule::with_threads(options.threads, || {
-                aov::first_hit_planes(&frame, &self.scene, &self.accel, region, &options.aovs)
-            });
-            for (aov, data) in planes {
-                film.set_plane(aov.name(), aov.channels(), data);
+        let first_hit: Vec<Aov> = options
+            .aovs
+            .iter()
+            .copied()
+            .filter(|&a| a != Aov::Rays)
+            .collect();
+        let mut planes = if first_hit.is_empty() {
+            Vec::new()
+        } else {
+            schedule::with_threads(options.threads, || {
+                aov::first_hit_planes(&frame, &self.scene, &self.accel, region, &first_hit)
+            })
+        };
+        if let Some(counts) = done.rays_per_pixel {
+            planes.push((Aov::Rays, counts));
+        }
+        // In the order asked for.
+        for &aov in &options.aovs {
+            if let Some((_, data)) = planes.iter_mut().find(|(a, _)| *a == aov) {
+                film.set_plane(aov.name(), aov.channels(), std::mem::take(data));
             }
         }
         let stats = RenderStats {
