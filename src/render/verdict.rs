@@ -130,22 +130,20 @@ fn cause(root: &RayNode, bytes: [u8; 3], file: Option<&str>) -> String {
                 "in shadow: {what}{side} faces the lights, but every shadow ray towards them is blocked."
             )
         })
-    } else if lit.len() == 1 && root.lights.len() > 1 {
-        let l = lit[0];
-        format!(
-            "lit by {} alone (shade {}/{}): the other lights face away from {what}{side} or are blocked.",
+    } else if let [l] = lit[..] {
+        let by = format!(
+            "{} (shade {}/{})",
             light_name(l.light, l.line),
             l.reached,
             l.rays
-        )
-    } else if lit.len() == 1 {
-        let l = lit[0];
-        format!(
-            "{what}{side} is lit by the scene's one light, {} (shade {}/{}).",
-            light_name(l.light, l.line),
-            l.reached,
-            l.rays
-        )
+        );
+        if root.lights.len() > 1 {
+            format!(
+                "lit by {by} alone: the other lights face away from {what}{side} or are blocked."
+            )
+        } else {
+            format!("{what}{side} is lit by the scene's one light, {by}.")
+        }
     } else {
         format!(
             "{what}{side} is lit by {} of the scene's {} lights.",
