@@ -42,8 +42,8 @@ pub use pass_files::{
 };
 pub use probe::{ProbeHit, RayError, parse_ray, to_json, to_text};
 pub use render::{
-    Aov, Control, Explanation, Film, MAX_THREADS, Plane, Region, RenderError, RenderOptions,
-    RenderStats, Renderer, Sampling, Stage, memory_needed,
+    Aov, Control, Explanation, Film, MAX_EXPLAINED_SPP, MAX_THREADS, Plane, Region, RenderError,
+    RenderOptions, RenderStats, Renderer, Sampling, Stage, memory_needed,
 };
 pub use scene::{Scene, SceneError};
 

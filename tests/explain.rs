@@ -269,4 +269,13 @@ fn a_pixel_outside_the_frame_is_an_error() {
     assert!(r.explain(&options, 0, 3).is_err());
     assert!(r.explain(&options, u32::MAX, u32::MAX).is_err());
     assert!(r.explain(&options, 3, 2).is_ok());
+    // Every sample's tree is kept: a huge --spp is refused, not a crash.
+    let many = RenderOptions {
+        spp: Some(u32::MAX),
+        ..RenderOptions::default()
+    };
+    assert!(matches!(
+        r.explain(&many, 0, 0),
+        Err(glint::RenderError::Samples { .. })
+    ));
 }

@@ -314,7 +314,7 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
 /// A render that could not start: a size option out of range names its option.
 fn render_failure(e: RenderError) -> Failure {
     match e {
-        RenderError::Side { .. } => Failure(format!("error: --{e}")),
+        RenderError::Side { .. } | RenderError::Samples { .. } => Failure(format!("error: --{e}")),
         _ => Failure(format!("error: {e}")),
     }
 }

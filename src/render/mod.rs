@@ -26,6 +26,10 @@ use passes::{Watch, render_region};
 use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
+/// The most samples per pixel [`Renderer::explain`] takes (it keeps every
+/// sample's ray tree).
+pub const MAX_EXPLAINED_SPP: u32 = 4096;
+
 /// How to render.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct RenderOptions {
@@ -106,6 +110,14 @@ pub enum RenderError {
         frame_w: u32,
         /// The frame's height.
         frame_h: u32,
+    },
+    /// More samples per pixel than `explain` keeps trees of.
+    #[error("spp {value} is too many to explain: every sample's tree is kept, at most {max}")]
+    Samples {
+        /// The samples asked for.
+        value: u32,
+        /// The most `explain` takes.
+        max: u32,
     },
     /// The cancel flag was set.
     #[error("the render was cancelled")]
@@ -260,6 +272,12 @@ impl Renderer {
         y: u32,
     ) -> Result<Explanation, RenderError> {
         let (w, h) = self.frame_size(options)?;
+        if let Some(value) = options.spp.filter(|&n| n > MAX_EXPLAINED_SPP) {
+            return Err(RenderError::Samples {
+                value,
+                max: MAX_EXPLAINED_SPP,
+            });
+        }
         if x >= w || y >= h {
             return Err(RenderError::Pixel {
                 x,
