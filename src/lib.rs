@@ -28,18 +28,22 @@ pub mod geometry;
 mod geometry;
 mod integrator;
 mod output;
+mod pass_files;
 mod probe;
 mod render;
 mod sampling;
 pub mod scene;
 
 pub use geometry::Shape;
-pub use integrator::RayCounts;
+pub use integrator::{Blocker, HitInfo, LightTerm, RayCounts, RayKind, RayNode};
 pub use output::{Format, Image, SaveError};
+pub use pass_files::{
+    PrimitiveTable, pass_path, primitive_colour, save_exr_layers, save_pass_images,
+};
 pub use probe::{ProbeHit, RayError, parse_ray, to_json, to_text};
 pub use render::{
-    Control, Film, MAX_THREADS, Plane, Region, RenderError, RenderOptions, RenderStats, Renderer,
-    Stage, memory_needed,
+    Aov, Control, Explanation, Film, MAX_EXPLAINED_SPP, MAX_THREADS, Plane, Region, RenderError,
+    RenderOptions, RenderStats, Renderer, Sampling, Stage, memory_needed,
 };
 pub use scene::{Scene, SceneError};
 

@@ -2,8 +2,8 @@
 
 use clap::{Args, Parser, Subcommand};
 use glint::{
-    Control, Format, MAX_THREADS, RenderError, RenderOptions, Renderer, Scene, memory_needed,
-    parse_ray, to_json, to_text,
+    Aov, Control, Format, MAX_THREADS, Region, RenderError, RenderOptions, Renderer, Scene,
+    memory_needed, parse_ray, to_json, to_text,
 };
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::{BufRead, IsTerminal, Read, Write};
@@ -25,6 +25,48 @@ enum Command {
     Render(RenderArgs),
     /// Print the first hit of each ray of a file (one `ox oy oz dx dy dz` per line).
     Probe(ProbeArgs),
+    /// Explain one pixel: its ray tree as `render` traces it, its bytes and why.
+    Explain(ExplainArgs),
+}
+
+#[derive(Args)]
+struct ExplainArgs {
+    /// The scene file.
+    scene: PathBuf,
+    /// The pixel, `X,Y` (column, row from the top, from 0).
+    #[arg(long, value_parser = pixel)]
+    pixel: (u32, u32),
+    /// Image width in pixels, as for `render`.
+    #[arg(long)]
+    width: Option<u32>,
+    /// Image height in pixels, as for `render`.
+    #[arg(long)]
+    height: Option<u32>,
+    /// Seed of the random streams, as for `render`.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Stratified samples per pixel, as for `render` (default: adaptive anti-aliasing).
+    #[arg(long, value_parser = at_least_one::<u32>)]
+    spp: Option<u32>,
+    /// List every ray of glossy fans and every sample, instead of summing them up.
+    #[arg(long)]
+    expand: bool,
+    /// One JSON object (schema: docs/debugging.md).
+    #[arg(long)]
+    json: bool,
+}
+
+/// Parses `--pixel X,Y`.
+fn pixel(s: &str) -> Result<(u32, u32), String> {
+    let (x, y) = s
+        .split_once(',')
+        .ok_or_else(|| "expected `X,Y`, e.g. `--pixel 412,300`".to_string())?;
+    let n = |v: &str| {
+        v.trim()
+            .parse::<u32>()
+            .map_err(|e| format!("`{}` is not a pixel coordinate: {e}", v.trim()))
+    };
+    Ok((n(x)?, n(y)?))
 }
 
 #[derive(Args)]
@@ -56,6 +98,40 @@ struct RenderArgs {
     /// Also print notes (where textures were found) and a breakdown of the rays.
     #[arg(short, long)]
     verbose: bool,
+    /// Passes to write beside the picture, comma-separated: normal, depth,
+    /// position, uv, primitive, albedo, rays (layers of an .exr; else OUT.PASS.EXT files).
+    #[arg(long)]
+    aov: Option<String>,
+    /// Render only columns X0..X1 and rows Y0..Y1 (ends excluded, rows from
+    /// the top): `X0,Y0,X1,Y1`; its pixels are those of the whole render.
+    #[arg(long, value_parser = region)]
+    region: Option<Region>,
+}
+
+/// Parses `--region X0,Y0,X1,Y1` (ends excluded).
+fn region(s: &str) -> Result<Region, String> {
+    let n: Vec<u32> = s
+        .split(',')
+        .map(|v| {
+            v.trim()
+                .parse::<u32>()
+                .map_err(|e| format!("`{}` is not a pixel coordinate: {e}", v.trim()))
+        })
+        .collect::<Result<_, _>>()?;
+    let [x0, y0, x1, y1] = n[..] else {
+        return Err("expected `X0,Y0,X1,Y1`, e.g. `--region 0,0,64,48`".to_string());
+    };
+    if x1 <= x0 || y1 <= y0 {
+        return Err(format!(
+            "the region is empty: X1 must exceed X0 and Y1 exceed Y0 (got {s})"
+        ));
+    }
+    Ok(Region {
+        x: x0,
+        y: y0,
+        width: x1 - x0,
+        height: y1 - y0,
+    })
 }
 
 #[derive(Args)]
@@ -118,6 +194,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Render(args) => run_render(args),
         Command::Probe(args) => run_probe(args),
+        Command::Explain(args) => run_explain(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -164,7 +241,13 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
         spp: args.spp,
         width: args.width,
         height: args.height,
-        region: None,
+        region: args.region,
+        aovs: match &args.aov {
+            Some(list) => {
+                Aov::parse_list(list).map_err(|e| Failure(format!("error: --aov: {e}")))?
+            }
+            None => Vec::new(),
+        },
     };
     let renderer = Renderer::new(scene);
     let (w, h) = renderer.frame_size(&options).map_err(render_failure)?;
@@ -193,9 +276,18 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
         .render_with(&options, control)
         .map_err(render_failure)?;
     bar.finish_and_clear();
-    film.image()
-        .save(&output)
-        .map_err(|e| Failure(format!("error: cannot write the image: {e}")))?;
+    let cannot = |e: glint::SaveError| Failure(format!("error: cannot write the image: {e}"));
+    let exr = Format::from_path(&output).is_ok_and(|f| f == Format::Exr);
+    if exr && !options.aovs.is_empty() {
+        glint::save_exr_layers(&film, &output).map_err(cannot)?;
+    } else {
+        film.image().save(&output).map_err(cannot)?;
+        if !options.aovs.is_empty() {
+            let table = renderer.primitive_table();
+            let file = renderer.scene_file();
+            glint::save_pass_images(&film, &output, &table, file.as_deref()).map_err(cannot)?;
+        }
+    }
     if !args.quiet {
         let r = stats.rays;
         eprintln!(
@@ -222,7 +314,7 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
 /// A render that could not start: a size option out of range names its option.
 fn render_failure(e: RenderError) -> Failure {
     match e {
-        RenderError::Side { .. } => Failure(format!("error: --{e}")),
+        RenderError::Side { .. } | RenderError::Samples { .. } => Failure(format!("error: --{e}")),
         _ => Failure(format!("error: {e}")),
     }
 }
@@ -245,6 +337,31 @@ fn check_memory(w: u32, h: u32) -> Result<(), Failure> {
         ))),
         _ => Ok(()),
     }
+}
+
+fn run_explain(args: ExplainArgs) -> Result<(), Failure> {
+    let scene = load_scene(&args.scene)?;
+    let options = RenderOptions {
+        threads: Some(1),
+        seed: args.seed,
+        spp: args.spp,
+        width: args.width,
+        height: args.height,
+        region: None,
+        aovs: Vec::new(),
+    };
+    let renderer = Renderer::new(scene);
+    let (x, y) = args.pixel;
+    let e = renderer.explain(&options, x, y).map_err(render_failure)?;
+    // JSON escapes what it must itself; text goes through `shown`, which
+    // escapes what a terminal would obey in the file name.
+    let text = if args.json {
+        format!("{}\n", e.to_json(args.expand))
+    } else {
+        shown(&e.to_text(args.expand)).into_owned()
+    };
+    let _ = std::io::stdout().write_all(text.as_bytes());
+    Ok(())
 }
 
 fn run_probe(args: ProbeArgs) -> Result<(), Failure> {

@@ -143,10 +143,11 @@ impl<'p> Builder<'p> {
         if let Some(kind) = build(b)
             && b.diags.error_count() == errors
         {
-            self.scene.add_light(Light {
+            let index = self.scene.add_light(Light {
                 kind,
                 color: color * intensity,
             });
+            self.scene.set_light_line(index, header_line(b.header));
         }
     }
 
@@ -169,8 +170,14 @@ impl<'p> Builder<'p> {
             for s in shapes {
                 self.scene.add_object(s, m, index);
             }
+            self.scene.set_block_line(index, header_line(b.header));
         }
     }
+}
+
+/// The 1-based line of a block's header.
+fn header_line(header: Site) -> u32 {
+    u32::try_from(header.line + 1).unwrap_or(u32::MAX)
 }
 
 /// Warns at the second block of a kind that should appear once.

@@ -63,6 +63,19 @@ impl Shape {
         }
     }
 
+    /// The kind's name, as the scene format spells it (`sphere`, `cube`...).
+    pub fn kind_name(&self) -> &'static str {
+        match self {
+            Shape::Sphere(_) => "sphere",
+            Shape::Plane(_) => "plane",
+            Shape::Square(_) => "square",
+            Shape::Cube(_) => "cube",
+            Shape::Cylinder(_) => "cylinder",
+            Shape::Bezier(_) => "bezier",
+            Shape::Triangle(_) => "triangle",
+        }
+    }
+
     /// World-space bounds, or `None` for unbounded shapes (planes).
     pub fn bounds(&self) -> Option<Aabb> {
         match self {

@@ -5,12 +5,16 @@
 
 mod observer;
 mod path;
+mod tree;
 mod visibility;
 mod whitted;
 
+pub use observer::RayKind;
 pub(crate) use observer::{AaHash, NoObserver, PathObserver, mix};
 pub use path::RayCounts;
 pub(crate) use path::{PathState, SceneAccel};
+pub(crate) use tree::RayTree;
+pub use tree::{Blocker, HitInfo, LightTerm, RayNode};
 pub(crate) use visibility::ShadowHints;
 #[cfg(test)]
 pub(crate) use visibility::{ShadowFrom, shade_factor};

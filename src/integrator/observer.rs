@@ -3,7 +3,63 @@
 //! Shading is generic over it, so an observer that watches nothing costs
 //! nothing.
 
-use crate::scene::Origin;
+use crate::geometry::{Hit, Ray, Shape};
+use crate::scene::{Material, Origin};
+use glam::DVec3;
+
+/// What a traced ray is, as its parent made it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RayKind {
+    /// A ray from the camera through the image.
+    Camera,
+    /// A mirror reflection.
+    Reflection,
+    /// Ray `k` (from 1) of the `n` rays of a glossy reflection's fan.
+    Glossy {
+        /// Its place in the fan, from 1.
+        k: u32,
+        /// The rays of the fan.
+        n: u32,
+    },
+    /// A refraction into or out of a transparent surface.
+    Refraction,
+    /// A refraction ray that Snell's law turned back (total internal reflection).
+    TotalInternalReflection,
+}
+
+/// A surface a ray hit, as the shading code sees it.
+pub(crate) struct SurfaceSeen<'a> {
+    /// The block it came from.
+    pub origin: Origin,
+    /// Its shape.
+    pub shape: &'a Shape,
+    /// The ray that hit it.
+    pub ray: &'a Ray,
+    /// The hit.
+    pub hit: &'a Hit,
+    /// The material.
+    pub material: &'a Material,
+}
+
+/// One light's term at a shaded point.
+pub(crate) struct LightSeen {
+    /// The light's index.
+    pub light: u32,
+    /// L·N (the term is zero unless it is positive).
+    pub l_dot_n: f64,
+    /// The shade factor (0 when not traced).
+    pub s: f64,
+    /// Shadow rays traced.
+    pub rays: u64,
+    /// The diffuse weight diff·(L·N)·s.
+    pub diffuse: f64,
+    /// The specular weight spec·(L·N)^20·s.
+    pub specular: f64,
+    /// The shaded point.
+    pub point: DVec3,
+    /// The unit normal on the side the shadow rays leave from.
+    pub side: DVec3,
+}
 
 /// Watches the rays of one camera sample.
 pub(crate) trait PathObserver {
@@ -20,6 +76,92 @@ pub(crate) trait PathObserver {
 
     /// A point of the path is lit by point light `light` (s > 0).
     fn point_light(&mut self, light: u32);
+
+    /// A ray of `kind` at `depth` is about to be traced.
+    #[inline(always)]
+    fn ray(&mut self, _kind: RayKind, _depth: u32, _ray: &Ray) {}
+
+    /// The last ray begun hit a primitive's surface.
+    #[inline(always)]
+    fn surface(&mut self, _seen: &SurfaceSeen<'_>) {}
+
+    /// The last ray begun hit area light `light`'s visible surface `shape`.
+    #[inline(always)]
+    fn emitter(&mut self, _light: u32, _shape: &Shape, _ray: &Ray, _hit: &Hit) {}
+
+    /// A light's term at the last ray's hit.
+    #[inline(always)]
+    fn light(&mut self, _seen: &LightSeen) {}
+
+    /// A child ray of `kind` was not traced: it would pass the depth limit.
+    #[inline(always)]
+    fn cut(&mut self, _kind: RayKind) {}
+
+    /// The last ray's sum before the clamp to 1 per channel.
+    #[inline(always)]
+    fn shaded(&mut self, _sum: DVec3) {}
+
+    /// The last ray begun ended with (clamped) `color`, weighted by `weight` in its parent.
+    #[inline(always)]
+    fn done(&mut self, _color: DVec3, _weight: DVec3) {}
+}
+
+/// A borrowed observer watches as its owner would.
+impl<T: PathObserver> PathObserver for &mut T {
+    type Fan<'s>
+        = T::Fan<'s>
+    where
+        Self: 's;
+
+    #[inline(always)]
+    fn fan(&mut self) -> T::Fan<'_> {
+        (**self).fan()
+    }
+
+    #[inline(always)]
+    fn hit(&mut self, origin: Origin) {
+        (**self).hit(origin)
+    }
+
+    #[inline(always)]
+    fn point_light(&mut self, light: u32) {
+        (**self).point_light(light)
+    }
+
+    #[inline(always)]
+    fn ray(&mut self, kind: RayKind, depth: u32, ray: &Ray) {
+        (**self).ray(kind, depth, ray)
+    }
+
+    #[inline(always)]
+    fn surface(&mut self, seen: &SurfaceSeen<'_>) {
+        (**self).surface(seen)
+    }
+
+    #[inline(always)]
+    fn emitter(&mut self, light: u32, shape: &Shape, ray: &Ray, hit: &Hit) {
+        (**self).emitter(light, shape, ray, hit)
+    }
+
+    #[inline(always)]
+    fn light(&mut self, seen: &LightSeen) {
+        (**self).light(seen)
+    }
+
+    #[inline(always)]
+    fn cut(&mut self, kind: RayKind) {
+        (**self).cut(kind)
+    }
+
+    #[inline(always)]
+    fn shaded(&mut self, sum: DVec3) {
+        (**self).shaded(sum)
+    }
+
+    #[inline(always)]
+    fn done(&mut self, color: DVec3, weight: DVec3) {
+        (**self).done(color, weight)
+    }
 }
 
 /// Watches nothing.

@@ -3,7 +3,7 @@
 //! and glossy reflection, refraction with Beer absorption, the per-ray
 //! clamp, depth 10.
 
-use super::observer::PathObserver;
+use super::observer::{LightSeen, PathObserver, RayKind, SurfaceSeen};
 use super::path::{PathState, SceneAccel};
 use super::visibility::{ShadowFrom, ShadowHints, shade_factor};
 use crate::accel::PACKET_MAX;
@@ -51,7 +51,10 @@ impl<'a> Whitted<'a> {
         hints: &mut ShadowHints,
     ) -> DVec3 {
         st.rays.camera += 1;
-        self.trace(ray, 1, st, obs, hints)
+        obs.ray(RayKind::Camera, 1, ray);
+        let c = self.trace(ray, 1, st, obs, hints);
+        obs.done(c, DVec3::ONE);
+        c
     }
 
     /// The colours seen along up to [`PACKET_MAX`] camera rays into `out`,
@@ -69,7 +72,10 @@ impl<'a> Whitted<'a> {
         self.accel.intersect_packet(rays, found);
         for (k, (ray, &hit)) in rays.iter().zip(found.iter()).enumerate() {
             states[k].rays.camera += 1;
-            out[k] = self.shade(ray, hit, 1, &mut states[k], &mut observers[k], hints);
+            let obs = &mut observers[k];
+            obs.ray(RayKind::Camera, 1, ray);
+            out[k] = self.shade(ray, hit, 1, &mut states[k], obs, hints);
+            obs.done(out[k], DVec3::ONE);
         }
     }
 
@@ -104,6 +110,7 @@ impl<'a> Whitted<'a> {
         let object = &self.accel.objects()[index as usize];
         obs.hit(object.origin());
         if let Some(light) = object.light() {
+            obs.emitter(light, object.shape(), ray, &hit);
             return scene.lights()[light as usize].color.min(DVec3::ONE);
         }
         let m = scene.material_of(object);
@@ -121,6 +128,13 @@ impl<'a> Whitted<'a> {
         } else {
             (-surface.normal, -surface.shading_normal)
         };
+        obs.surface(&SurfaceSeen {
+            origin: object.origin(),
+            shape,
+            ray,
+            hit: &hit,
+            material: &m,
+        });
         let mut color = DVec3::ZERO;
 
         if m.diff > 0.0 || m.spec > 0.0 {
@@ -136,7 +150,18 @@ impl<'a> Whitted<'a> {
             for (li, light) in scene.lights().iter().enumerate() {
                 let l = (light.center() - point).normalize_or_zero();
                 let d = l.dot(n);
+                let mut seen = LightSeen {
+                    light: li as u32,
+                    l_dot_n: d,
+                    s: 0.0,
+                    rays: 0,
+                    diffuse: 0.0,
+                    specular: 0.0,
+                    point,
+                    side,
+                };
                 if d <= 0.0 {
+                    obs.light(&seen);
                     continue;
                 }
                 let (s, rays) = shade_factor(
@@ -149,13 +174,17 @@ impl<'a> Whitted<'a> {
                     hints,
                 );
                 st.rays.shadow += rays;
+                (seen.s, seen.rays) = (s, rays);
                 if s <= 0.0 {
+                    obs.light(&seen);
                     continue;
                 }
                 if let LightKind::Point { .. } = light.kind {
                     obs.point_light(li as u32);
                 }
-                let weight = m.diff * d * s + m.spec * d.powi(20) * s;
+                (seen.diffuse, seen.specular) = (m.diff * d * s, m.spec * d.powi(20) * s);
+                obs.light(&seen);
+                let weight = seen.diffuse + seen.specular;
                 color += k * light.color * weight;
             }
         }
@@ -163,6 +192,9 @@ impl<'a> Whitted<'a> {
         // A ray deeper than MAX_DEPTH would return black: it is not traced.
         let glossy = m.drefl > 0.0;
         let reflected_depth = depth + if glossy { GLOSSY_AVERAGE_DEPTH } else { 1 };
+        if m.refl > 0.0 && reflected_depth > MAX_DEPTH {
+            obs.cut(RayKind::Reflection);
+        }
         if m.refl > 0.0 && reflected_depth <= MAX_DEPTH {
             let mirror = reflect(ray.dir, n);
             let origin = offset_origin(point, side);
@@ -170,7 +202,10 @@ impl<'a> Whitted<'a> {
             if !glossy {
                 st.rays.reflected += 1;
                 let ray = Ray::off_surface(origin, mirror);
-                color += self.trace(&ray, depth + 1, st, obs, hints) * weight;
+                obs.ray(RayKind::Reflection, depth + 1, &ray);
+                let c = self.trace(&ray, depth + 1, st, obs, hints);
+                obs.done(c, weight);
+                color += c * weight;
             } else {
                 let samples = if depth <= GLOSSY_AVERAGE_DEPTH {
                     self.glossy_samples
@@ -180,31 +215,49 @@ impl<'a> Whitted<'a> {
                 let (a1, a2) = perpendiculars(mirror);
                 let mut fan = obs.fan();
                 let mut sum = DVec3::ZERO;
-                for _ in 0..samples {
+                for k in 0..samples {
                     let dir = glossy_direction(mirror, side, a1, a2, m.drefl, &mut st.rng);
                     st.rays.reflected += 1;
                     let ray = Ray::off_surface(origin, dir);
-                    sum += self.trace(&ray, reflected_depth, st, &mut fan, hints);
+                    let kind = RayKind::Glossy {
+                        k: k + 1,
+                        n: samples,
+                    };
+                    fan.ray(kind, reflected_depth, &ray);
+                    let c = self.trace(&ray, reflected_depth, st, &mut fan, hints);
+                    fan.done(c, weight / samples as f64);
+                    sum += c;
                 }
                 color += sum / samples as f64 * weight;
             }
         }
 
+        if depth >= MAX_DEPTH && m.refr > 0.0 {
+            obs.cut(RayKind::Refraction);
+        }
         if depth < MAX_DEPTH && m.refr > 0.0 {
             let eta = if front { 1.0 / m.rindex } else { m.rindex };
-            let (dir, origin) = match refract(ray.dir, n, eta) {
-                Some(t) => (t, offset_origin(point, -side)),
-                None => (reflect(ray.dir, n), offset_origin(point, side)),
+            let (dir, origin, kind) = match refract(ray.dir, n, eta) {
+                Some(t) => (t, offset_origin(point, -side), RayKind::Refraction),
+                None => (
+                    reflect(ray.dir, n),
+                    offset_origin(point, side),
+                    RayKind::TotalInternalReflection,
+                ),
             };
             st.rays.refracted += 1;
-            let c = self.trace(&Ray::off_surface(origin, dir), depth + 1, st, obs, hints);
+            let ray = Ray::off_surface(origin, dir);
+            obs.ray(kind, depth + 1, &ray);
+            let c = self.trace(&ray, depth + 1, st, obs, hints);
             let weight = if front {
                 DVec3::splat(m.refr)
             } else {
                 (-m.absor * hit.t).exp() * m.refr
             };
+            obs.done(c, weight);
             color += c * weight;
         }
+        obs.shaded(color);
         color.min(DVec3::ONE)
     }
 }

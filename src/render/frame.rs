@@ -79,14 +79,30 @@ impl<'a> Frame<'a> {
         (self.ray(x, y, fx, fy), st)
     }
 
+    /// The camera sample of pass 1 at pixel (x, y): the ray through its
+    /// centre and random stream 0.
+    pub fn centre_sample(&self, x: u32, y: u32) -> (Ray, PathState) {
+        (self.ray(x, y, 0.5, 0.5), self.state(x, y, 0))
+    }
+
+    /// Sample `k` (row by row) of pixel (x, y)'s 7×7 anti-aliasing grid.
+    pub fn grid_sample(&self, x: u32, y: u32, k: usize) -> (Ray, PathState) {
+        let g = AA_GRID as usize;
+        let at = |k: usize| ((k % g) as f64 + 0.5) / g as f64;
+        (
+            self.ray(x, y, at(k), at(k / g)),
+            self.state(x, y, 1 + k as u32),
+        )
+    }
+
     /// Traces `n` (at most [`PACKET_MAX`]) camera rays as one packet: ray k
     /// and its random stream are `sample_of(k)`, watched by a fresh `O`.
     /// Calls `each(k, colour, observer, rays)` in order.
-    fn packet<O: PathObserver + Default>(
+    pub fn packet<O: PathObserver + Default>(
         &self,
         n: usize,
         sample_of: impl Fn(usize) -> (Ray, PathState),
-        mut each: impl FnMut(usize, DVec3, &O, &RayCounts),
+        mut each: impl FnMut(usize, DVec3, &mut O, &RayCounts),
         hints: &mut ShadowHints,
     ) {
         debug_assert!(n <= PACKET_MAX);
@@ -108,8 +124,8 @@ impl<'a> Frame<'a> {
             &mut colors[..n],
             hints,
         );
-        for k in 0..n {
-            each(k, colors[k], &observers[k], &states[k].rays);
+        for (k, observer) in observers.iter_mut().take(n).enumerate() {
+            each(k, colors[k], observer, &states[k].rays);
         }
     }
 
@@ -117,17 +133,11 @@ impl<'a> Frame<'a> {
     /// camera rays, traced as one packet.
     pub fn refine(&self, x: u32, y: u32, rays: &mut RayCounts, hints: &mut ShadowHints) -> DVec3 {
         let g = AA_GRID as usize;
-        let at = |k: usize| ((k % g) as f64 + 0.5) / g as f64;
         // Summed in grid order, as one ray after another would be.
         let mut sum = DVec3::ZERO;
         self.packet::<NoObserver>(
             g * g,
-            |k| {
-                (
-                    self.ray(x, y, at(k), at(k / g)),
-                    self.state(x, y, 1 + k as u32),
-                )
-            },
+            |k| self.grid_sample(x, y, k),
             |_, c, _, r| {
                 sum += c;
                 rays.add(r);
@@ -139,13 +149,13 @@ impl<'a> Frame<'a> {
 
     /// Pass 1 over the tile of columns `xs` and rows `ys` when a pixel takes
     /// one ray through its centre, traced as one packet, each watched by an
-    /// `O`. Calls `put(x, y, colour, observer)` for each pixel.
+    /// `O`. Calls `put(x, y, colour, observer, rays traced)` for each pixel.
     pub fn centre_tile<O: PathObserver + Default>(
         &self,
         (xs, ys): Tile,
         rays: &mut RayCounts,
         hints: &mut ShadowHints,
-        mut put: impl FnMut(u32, u32, DVec3, &O),
+        mut put: impl FnMut(u32, u32, DVec3, &O, u64),
     ) {
         let w = xs.len();
         let pixel = |k: usize| (xs.start + (k % w) as u32, ys.start + (k / w) as u32);
@@ -153,27 +163,27 @@ impl<'a> Frame<'a> {
             w * ys.len(),
             |k| {
                 let (x, y) = pixel(k);
-                (self.ray(x, y, 0.5, 0.5), self.state(x, y, 0))
+                self.centre_sample(x, y)
             },
             |k, c, o, r| {
                 let (x, y) = pixel(k);
                 rays.add(r);
-                put(x, y, c, o);
+                put(x, y, c, o, r.total());
             },
             hints,
         );
     }
 
     /// Pass 1 over a tile when a pixel takes `n` (2 or more) stratified
-    /// samples: calls `put(x, y, mean)` for each pixel, the tile's samples
-    /// traced in packets.
+    /// samples: calls `put(x, y, mean, rays traced)` for each pixel, the
+    /// tile's samples traced in packets.
     pub fn stratified_tile(
         &self,
         (xs, ys): Tile,
         n: u32,
         rays: &mut RayCounts,
         hints: &mut ShadowHints,
-        mut put: impl FnMut(u32, u32, DVec3),
+        mut put: impl FnMut(u32, u32, DVec3, u64),
     ) {
         let strata = strata(n);
         let (w, n) = (xs.len() as u64, u64::from(n));
@@ -187,6 +197,7 @@ impl<'a> Frame<'a> {
             (x, y, (i % n) as u32)
         };
         let mut sum = DVec3::ZERO;
+        let mut pixel_rays = 0;
         let mut start = 0;
         while start < total {
             let len = (total - start).min(PACKET_MAX as u64);
@@ -201,9 +212,10 @@ impl<'a> Frame<'a> {
                     // Summed in sample order, as ray after ray would be.
                     sum += c;
                     rays.add(r);
+                    pixel_rays += r.total();
                     if u64::from(s) + 1 == n {
-                        put(x, y, sum / n as f64);
-                        sum = DVec3::ZERO;
+                        put(x, y, sum / n as f64, pixel_rays);
+                        (sum, pixel_rays) = (DVec3::ZERO, 0);
                     }
                 },
                 hints,
@@ -273,21 +285,26 @@ mod tests {
             (0..61, 20..21),
         ] {
             let mut rays = RayCounts::default();
-            frame.centre_tile((xs, ys), &mut rays, &mut hints, |x, y, c, hash: &AaHash| {
-                let mut st = frame.state(x, y, 0);
-                let mut want_hash = AaHash::default();
-                let mut alone = ShadowHints::default();
-                let want = frame.integrator.trace_camera(
-                    &frame.ray(x, y, 0.5, 0.5),
-                    &mut st,
-                    &mut want_hash,
-                    &mut alone,
-                );
-                assert_eq!(c, want, "pixel {x} {y}");
-                assert_eq!(*hash, want_hash, "pixel {x} {y}");
-                distinct.insert(hash.folded());
-                compared += 1;
-            });
+            frame.centre_tile(
+                (xs, ys),
+                &mut rays,
+                &mut hints,
+                |x, y, c, hash: &AaHash, _| {
+                    let mut st = frame.state(x, y, 0);
+                    let mut want_hash = AaHash::default();
+                    let mut alone = ShadowHints::default();
+                    let want = frame.integrator.trace_camera(
+                        &frame.ray(x, y, 0.5, 0.5),
+                        &mut st,
+                        &mut want_hash,
+                        &mut alone,
+                    );
+                    assert_eq!(c, want, "pixel {x} {y}");
+                    assert_eq!(*hash, want_hash, "pixel {x} {y}");
+                    distinct.insert(hash.folded());
+                    compared += 1;
+                },
+            );
             assert!(rays.camera > 0 && rays.shadow > 0);
         }
         assert_eq!(compared, 64 + 40 + 40 + 61);
@@ -363,7 +380,7 @@ mod tests {
             }
             let mut rays = RayCounts::default();
             let mut got = std::collections::HashMap::new();
-            frame.stratified_tile((xs, ys), n, &mut rays, &mut hints, |x, y, c| {
+            frame.stratified_tile((xs, ys), n, &mut rays, &mut hints, |x, y, c, _| {
                 assert!(got.insert((x, y), c).is_none(), "pixel {x} {y} twice");
             });
             assert_eq!(got, want, "{n} samples");

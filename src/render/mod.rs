@@ -3,12 +3,18 @@
 //! as [`RenderOptions`] say: on any number of threads, with a progress
 //! callback and a flag another thread can set to stop it.
 
+mod aov;
 mod camera;
+mod explain;
 mod film;
 mod frame;
 mod passes;
+mod report;
 mod schedule;
+mod verdict;
 
+pub use aov::Aov;
+pub use explain::{Explanation, Sampling};
 pub use film::{Film, Plane, Region};
 pub use schedule::MAX_THREADS;
 
@@ -19,6 +25,10 @@ use frame::Frame;
 use passes::{Watch, render_region};
 use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
+
+/// The most samples per pixel [`Renderer::explain`] takes (it keeps every
+/// sample's ray tree).
+pub const MAX_EXPLAINED_SPP: u32 = 4096;
 
 /// How to render.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -39,6 +49,9 @@ pub struct RenderOptions {
     /// The part of the frame to render (`None`: all of it). Its pixels are
     /// the same bytes as those pixels of the whole render.
     pub region: Option<Region>,
+    /// Passes to store as planes of the film beside the colour, named as
+    /// [`Aov::name`] says (the picture is the same with or without them).
+    pub aovs: Vec<Aov>,
 }
 
 /// Figures about a finished render.
@@ -85,6 +98,26 @@ pub enum RenderError {
         frame_w: u32,
         /// The frame's height.
         frame_h: u32,
+    },
+    /// A pixel outside the frame.
+    #[error("the pixel ({x}, {y}) is not inside the {frame_w}x{frame_h} frame")]
+    Pixel {
+        /// Its column.
+        x: u32,
+        /// Its row (from the top).
+        y: u32,
+        /// The frame's width.
+        frame_w: u32,
+        /// The frame's height.
+        frame_h: u32,
+    },
+    /// More samples per pixel than `explain` keeps trees of.
+    #[error("spp {value} is too many to explain: every sample's tree is kept, at most {max}")]
+    Samples {
+        /// The samples asked for.
+        value: u32,
+        /// The most `explain` takes.
+        max: u32,
     },
     /// The cancel flag was set.
     #[error("the render was cancelled")]
@@ -185,29 +218,112 @@ impl Renderer {
                 frame_h: h,
             });
         }
-        let camera = Camera {
-            width: w,
-            height: h,
-            ..self.scene.camera().clone()
-        };
-        let integrator = Integrator::whitted(&self.scene, &camera, &self.accel);
-        let frame = Frame::new(&camera, integrator, options.seed);
+        let frame = self.frame(w, h, options.seed);
         let watch = Watch {
             progress: control.progress.unwrap_or(&|_, _| {}),
             cancel: control.cancel,
         };
+        let count = options.aovs.contains(&Aov::Rays);
         let done = schedule::with_threads(options.threads, || {
-            render_region(&frame, region, options.spp, &watch)
+            render_region(&frame, region, options.spp, count, &watch)
         });
-        let (pixels, rays, refined) = done.ok_or(RenderError::Cancelled)?;
-        let image = Image::from_pixels(region.width, region.height, pixels);
+        let done = done.ok_or(RenderError::Cancelled)?;
+        let (rays, refined) = (done.rays, done.refined);
+        let image = Image::from_pixels(region.width, region.height, done.pixels);
+        let mut film = Film::new((w, h), region, image);
+        let first_hit: Vec<Aov> = options
+            .aovs
+            .iter()
+            .copied()
+            .filter(|&a| a != Aov::Rays)
+            .collect();
+        let mut planes = if first_hit.is_empty() {
+            Vec::new()
+        } else {
+            schedule::with_threads(options.threads, || {
+                aov::first_hit_planes(&frame, &self.scene, &self.accel, region, &first_hit)
+            })
+        };
+        if let Some(counts) = done.rays_per_pixel {
+            planes.push((Aov::Rays, counts));
+        }
+        // In the order asked for.
+        for &aov in &options.aovs {
+            if let Some((_, data)) = planes.iter_mut().find(|(a, _)| *a == aov) {
+                film.set_plane(aov.name(), aov.channels(), std::mem::take(data));
+            }
+        }
         let stats = RenderStats {
             rays,
             elapsed: start.elapsed(),
             build: self.build,
             refined_pixels: refined,
         };
-        Ok((Film::new((w, h), region, image), stats))
+        Ok((film, stats))
+    }
+
+    /// Pixel (x, y) of the render `options` ask for (their region aside),
+    /// explained: the same samples the render traces there, as ray trees,
+    /// with the bytes it writes and a verdict.
+    pub fn explain(
+        &self,
+        options: &RenderOptions,
+        x: u32,
+        y: u32,
+    ) -> Result<Explanation, RenderError> {
+        let (w, h) = self.frame_size(options)?;
+        if let Some(value) = options.spp.filter(|&n| n > MAX_EXPLAINED_SPP) {
+            return Err(RenderError::Samples {
+                value,
+                max: MAX_EXPLAINED_SPP,
+            });
+        }
+        if x >= w || y >= h {
+            return Err(RenderError::Pixel {
+                x,
+                y,
+                frame_w: w,
+                frame_h: h,
+            });
+        }
+        let frame = self.frame(w, h, options.seed);
+        Ok(explain::explain_pixel(
+            &frame,
+            &self.scene,
+            &self.accel,
+            options.spp,
+            (x, y),
+        ))
+    }
+
+    /// For each primitive block that made a surface (0-based index): its
+    /// shape's kind and the 1-based line of its header.
+    pub fn primitive_table(&self) -> std::collections::BTreeMap<u32, (&'static str, Option<u32>)> {
+        let mut table = std::collections::BTreeMap::new();
+        for o in self.accel.objects() {
+            if let Some(b) = o.block() {
+                table
+                    .entry(b)
+                    .or_insert_with(|| (o.shape().kind_name(), self.scene.block_line(b)));
+            }
+        }
+        table
+    }
+
+    /// The scene file's name, as given (`None`: parsed from text).
+    pub fn scene_file(&self) -> Option<String> {
+        self.scene.path().map(|p| p.display().to_string())
+    }
+
+    /// The frame of a `w` × `h` render with the random streams of `seed`.
+    fn frame(&self, w: u32, h: u32, seed: u64) -> Frame<'_> {
+        let camera = Camera {
+            width: w,
+            height: h,
+            ..self.scene.camera().clone()
+        };
+        let integrator = Integrator::whitted(&self.scene, &camera, &self.accel);
+        Frame::new(&camera, integrator, seed)
     }
 
     /// Renders a quarter-size preview at one ray per pixel, hands it to

@@ -25,14 +25,27 @@ impl Watch<'_> {
     }
 }
 
-/// The colours of `region`'s pixels (rows from the top), the rays traced
-/// and the pixels anti-aliased; `None` when cancelled.
+/// What the passes over a region produce.
+pub(crate) struct Rendered {
+    /// The region's colours, rows from the top.
+    pub pixels: Vec<[f32; 3]>,
+    /// Rays traced.
+    pub rays: RayCounts,
+    /// Pixels anti-aliased.
+    pub refined: u64,
+    /// Rays traced for each of the region's pixels, when asked for.
+    pub rays_per_pixel: Option<Vec<f32>>,
+}
+
+/// The colours of `region`'s pixels, the rays traced (per pixel too when
+/// `count`) and the pixels anti-aliased; `None` when cancelled.
 pub(crate) fn render_region(
     frame: &Frame,
     region: Region,
     spp: Option<u32>,
+    count: bool,
     watch: &Watch,
-) -> Option<(Vec<[f32; 3]>, RayCounts, u64)> {
+) -> Option<Rendered> {
     let (w, h) = (frame.width, frame.height);
     let adaptive = spp.is_none();
     let spp = spp.map(|n| n.max(1));
@@ -58,7 +71,11 @@ pub(crate) fn render_region(
     let aw = area.width as usize;
     let mut pixels = vec![[0f32; 3]; aw * area.height as usize];
     let mut hashes = vec![0u32; if adaptive { pixels.len() } else { 0 }];
-    let band_rays = |band: usize, band_pixels: &mut [[f32; 3]], band_hashes: &mut [u32]| {
+    let mut counts = vec![0u32; if count { pixels.len() } else { 0 }];
+    let band_rays = |band: usize,
+                     band_pixels: &mut [[f32; 3]],
+                     band_hashes: &mut [u32],
+                     band_counts: &mut [u32]| {
         let mut rays = RayCounts::default();
         if watch.cancelled() {
             return rays;
@@ -71,19 +88,33 @@ pub(crate) fn render_region(
             let x1 = (x0 + BAND).min((area.x + area.width) as usize);
             let tile = (x0 as u32..x1 as u32, y0 as u32..(y0 + rows) as u32);
             let index = |x: u32, y: u32| (y as usize - y0) * aw + (x - area.x) as usize;
+            let mut tally = |i: usize, r: u64| {
+                if let Some(n) = band_counts.get_mut(i) {
+                    *n = r.min(u32::MAX as u64) as u32;
+                }
+            };
             match spp {
                 Some(n) if n > 1 => {
-                    let put = |x, y, c| band_pixels[index(x, y)] = to_f32(c);
+                    let put = |x, y, c, r| {
+                        let i = index(x, y);
+                        band_pixels[i] = to_f32(c);
+                        tally(i, r);
+                    };
                     frame.stratified_tile(tile, n, &mut rays, &mut hints, put);
                 }
                 Some(_) => {
-                    let put = |x, y, c, _: &NoObserver| band_pixels[index(x, y)] = to_f32(c);
+                    let put = |x, y, c, _: &NoObserver, r| {
+                        let i = index(x, y);
+                        band_pixels[i] = to_f32(c);
+                        tally(i, r);
+                    };
                     frame.centre_tile(tile, &mut rays, &mut hints, put);
                 }
                 None => {
-                    let put = |x, y, c, hash: &AaHash| {
+                    let put = |x, y, c, hash: &AaHash, r| {
                         let i = index(x, y);
                         (band_pixels[i], band_hashes[i]) = (to_f32(c), hash.folded());
+                        tally(i, r);
                     };
                     frame.centre_tile(tile, &mut rays, &mut hints, put);
                 }
@@ -92,20 +123,18 @@ pub(crate) fn render_region(
         report(band_pixels.len() as u64 * per_pixel);
         rays
     };
-    let band_rays: Vec<RayCounts> = if adaptive {
-        pixels
-            .par_chunks_mut(aw * BAND)
-            .zip(hashes.par_chunks_mut(aw * BAND))
-            .enumerate()
-            .map(|(band, (p, hs))| band_rays(band, p, hs))
-            .collect()
-    } else {
-        pixels
-            .par_chunks_mut(aw * BAND)
-            .enumerate()
-            .map(|(band, p)| band_rays(band, p, &mut []))
-            .collect()
-    };
+    // Each band's slice of the hashes and counts (empty when not kept).
+    let bands = pixels.len().div_ceil(aw * BAND);
+    let (hash_bands, count_bands) = (
+        band_slices(&mut hashes, aw * BAND, bands),
+        band_slices(&mut counts, aw * BAND, bands),
+    );
+    let band_rays: Vec<RayCounts> = pixels
+        .par_chunks_mut(aw * BAND)
+        .zip(hash_bands.into_par_iter().zip(count_bands))
+        .enumerate()
+        .map(|(band, (p, (hs, cs)))| band_rays(band, p, hs, cs))
+        .collect();
     let mut rays = RayCounts::default();
     band_rays.iter().for_each(|r| rays.add(r));
     if watch.cancelled() {
@@ -117,16 +146,10 @@ pub(crate) fn render_region(
     let mut refined = 0u64;
     if adaptive {
         let at = |x: u32, y: u32| (y - area.y) as usize * aw + (x - area.x) as usize;
-        let differs = |x: u32, y: u32| {
-            let hh = hashes[at(x, y)];
-            (x > 0 && hashes[at(x - 1, y)] != hh)
-                || (x + 1 < w && hashes[at(x + 1, y)] != hh)
-                || (y > 0 && hashes[at(x, y - 1)] != hh)
-                || (y + 1 < h && hashes[at(x, y + 1)] != hh)
-        };
+        let hash = |x: u32, y: u32| hashes[at(x, y)];
         let edge: Vec<(u32, u32)> = (region.y..region.y + region.height)
             .flat_map(|y| (region.x..region.x + region.width).map(move |x| (x, y)))
-            .filter(|&(x, y)| differs(x, y))
+            .filter(|&(x, y)| differs(hash, x, y, w, h))
             .collect();
         refined = edge.len() as u64;
         let n = (AA_GRID * AA_GRID) as u64;
@@ -155,18 +178,53 @@ pub(crate) fn render_region(
         for (&(x, y), (c, r)) in edge.iter().zip(&refined_colors) {
             pixels[at(x, y)] = to_f32(*c);
             rays.add(r);
+            if let Some(n) = counts.get_mut(at(x, y)) {
+                *n = n.saturating_add(r.total().min(u32::MAX as u64) as u32);
+            }
         }
     }
+    let rays_per_pixel = count.then(|| {
+        let all: Vec<f32> = counts.iter().map(|&n| n as f32).collect();
+        if area == region {
+            all
+        } else {
+            crop(&all, area, region)
+        }
+    });
     let pixels = if area == region {
         pixels
     } else {
         crop(&pixels, area, region)
     };
-    Some((pixels, rays, refined))
+    Some(Rendered {
+        pixels,
+        rays,
+        refined,
+        rays_per_pixel,
+    })
+}
+
+/// `v` cut into `bands` chunks of `len`, or `bands` empty slices when `v` is empty.
+fn band_slices(v: &mut [u32], len: usize, bands: usize) -> Vec<&mut [u32]> {
+    if v.is_empty() {
+        (0..bands).map(|_| &mut [][..]).collect()
+    } else {
+        v.chunks_mut(len).collect()
+    }
+}
+
+/// Whether pixel (x, y) of a `w` × `h` frame is anti-aliased: its hash
+/// (`hash(x, y)`, asked only inside the frame) differs from a 4-neighbour's.
+pub(crate) fn differs(hash: impl Fn(u32, u32) -> u32, x: u32, y: u32, w: u32, h: u32) -> bool {
+    let hh = hash(x, y);
+    (x > 0 && hash(x - 1, y) != hh)
+        || (x + 1 < w && hash(x + 1, y) != hh)
+        || (y > 0 && hash(x, y - 1) != hh)
+        || (y + 1 < h && hash(x, y + 1) != hh)
 }
 
 /// The pixels of `region` out of those of `area` (which holds it).
-fn crop(pixels: &[[f32; 3]], area: Region, region: Region) -> Vec<[f32; 3]> {
+fn crop<T: Copy>(pixels: &[T], area: Region, region: Region) -> Vec<T> {
     let aw = area.width as usize;
     let (dx, dy) = ((region.x - area.x) as usize, (region.y - area.y) as usize);
     (0..region.height as usize)

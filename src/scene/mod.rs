@@ -50,6 +50,10 @@ pub struct Scene {
     objects: Vec<Object>,
     warnings: Vec<Diagnostic>,
     notes: Vec<String>,
+    /// The 1-based line of each primitive block's header, by block index (0: unknown).
+    block_lines: Vec<u32>,
+    /// The 1-based line of each light's header, by light index (0: unknown).
+    light_lines: Vec<u32>,
 }
 
 impl Scene {
@@ -65,6 +69,8 @@ impl Scene {
             objects: Vec::new(),
             warnings: Vec::new(),
             notes: Vec::new(),
+            block_lines: Vec::new(),
+            light_lines: Vec::new(),
         }
     }
 
@@ -151,6 +157,33 @@ impl Scene {
         self.path = path;
     }
 
+    /// The 1-based line of the header of primitive block `block` (0-based,
+    /// in file order), when the scene was read from text.
+    pub fn block_line(&self, block: u32) -> Option<u32> {
+        self.block_lines
+            .get(block as usize)
+            .copied()
+            .filter(|&l| l > 0)
+    }
+
+    /// The 1-based line of the header of light `light`, when the scene was read from text.
+    pub fn light_line(&self, light: u32) -> Option<u32> {
+        self.light_lines
+            .get(light as usize)
+            .copied()
+            .filter(|&l| l > 0)
+    }
+
+    /// Records that primitive block `block` starts at 1-based line `line`.
+    pub(crate) fn set_block_line(&mut self, block: u32, line: u32) {
+        set_line(&mut self.block_lines, block, line);
+    }
+
+    /// Records that light `light` starts at 1-based line `line`.
+    pub(crate) fn set_light_line(&mut self, light: u32, line: u32) {
+        set_line(&mut self.light_lines, light, line);
+    }
+
     /// Sets the warnings found while reading.
     pub(crate) fn set_warnings(&mut self, warnings: Vec<Diagnostic>) {
         self.warnings = warnings;
@@ -222,4 +255,13 @@ impl Scene {
     pub(crate) fn take_objects(&mut self) -> Vec<Object> {
         std::mem::take(&mut self.objects)
     }
+}
+
+/// Sets `lines[index]` to `line`, growing the table with unknowns (0).
+fn set_line(lines: &mut Vec<u32>, index: u32, line: u32) {
+    let i = index as usize;
+    if lines.len() <= i {
+        lines.resize(i + 1, 0);
+    }
+    lines[i] = line;
 }

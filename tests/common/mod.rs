@@ -217,3 +217,19 @@ pub fn half_sizes(rng: &mut Pcg64, lo: f64, hi: f64) -> DVec3 {
 pub fn random_sign(rng: &mut Pcg64) -> f64 {
     if rng.random_bool(0.5) { 1.0 } else { -1.0 }
 }
+
+/// The spec's camera ray through the centre of pixel (x, y) (y counted from
+/// the top) of a W × H image: row i = H − 1 − y from the bottom, column j = x,
+/// direction N + Dy·(2(i + ½)/H − 1) + Dx·(2(j + ½)/W − 1), with
+/// Dx = unit(N × z)·lens_W/2 and Dy = unit(Dx × N)·lens_H/2 (N unit, not
+/// along z).
+pub fn camera_dir(n: DVec3, lens: (f64, f64), size: (u32, u32), x: u32, y: u32) -> DVec3 {
+    let n = n.normalize();
+    let right = n.cross(DVec3::Z).normalize();
+    let up = right.cross(n);
+    let (w, h) = (size.0 as f64, size.1 as f64);
+    let i = (size.1 - 1 - y) as f64 + 0.5;
+    let j = x as f64 + 0.5;
+    (n + up * (lens.1 / 2.0) * (2.0 * i / h - 1.0) + right * (lens.0 / 2.0) * (2.0 * j / w - 1.0))
+        .normalize()
+}

@@ -1,0 +1,214 @@
+//! Writing a film's passes: as layers of one `.exr` beside the picture, or
+//! (any other format) one image per pass beside it, `OUT.PASS.EXT`, mapped
+//! to 8 bits (normals as 0.5 + 0.5·n; depth, position and rays normalised,
+//! their range in a sidecar `OUT.PASS.json`; primitives as false colours with a
+//! legend `OUT.primitive.json`).
+
+use crate::output::{Format, Image, SaveError, write_atomically};
+use crate::render::{Film, Plane};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// What the legend says of a primitive block: its kind and header line.
+pub type PrimitiveTable = BTreeMap<u32, (&'static str, Option<u32>)>;
+
+/// The false colour of a primitive plane's value: black on a miss; a
+/// block's index k maps to (k + 1)·0x9E3779B mod 2^24 (odd, so distinct
+/// for up to 2^24 − 1 blocks); light n's surface to 2^24 − 1 − n.
+pub fn primitive_colour(value: f32) -> [u8; 3] {
+    let code: u32 = if value >= 0.0 {
+        (value as u32).wrapping_add(1).wrapping_mul(0x09E3_779B) & 0xFF_FFFF
+    } else if value <= -2.0 {
+        0xFF_FFFF - ((-2.0 - value) as u32 & 0xFF_FFFF)
+    } else {
+        0
+    };
+    [(code >> 16) as u8, (code >> 8) as u8, code as u8]
+}
+
+/// `picture` with `.PASS` before its extension: `shot.png` -> `shot.normal.png`.
+pub fn pass_path(picture: &Path, pass: &str, ext: &str) -> PathBuf {
+    let stem = picture.file_stem().unwrap_or_default().to_string_lossy();
+    picture.with_file_name(format!("{stem}.{pass}.{ext}"))
+}
+
+fn write_err(path: &Path, message: impl ToString) -> SaveError {
+    SaveError::Write {
+        path: path.to_path_buf(),
+        message: message.to_string(),
+    }
+}
+
+/// Writes the film's picture and its planes as the layers of one OpenEXR
+/// file at `path` (`color`: R G B; then each plane under its name).
+pub fn save_exr_layers(film: &Film, path: &Path) -> Result<(), SaveError> {
+    use exr::prelude::*;
+    let img = film.image();
+    let size = (img.width() as usize, img.height() as usize);
+    let n = size.0 * size.1;
+    let column = |data: &[f32], channels: usize, c: usize| -> Vec<f32> {
+        (0..n).map(|i| data[i * channels + c]).collect()
+    };
+    let color: Vec<f32> = (0..n)
+        .flat_map(|i| img.pixel((i % size.0) as u32, (i / size.0) as u32))
+        .collect();
+    let layer = |name: &str, data: &[f32], channels: &[&str]| {
+        let list: Vec<AnyChannel<FlatSamples>> = channels
+            .iter()
+            .enumerate()
+            .map(|(c, &ch)| AnyChannel::new(ch, FlatSamples::F32(column(data, channels.len(), c))))
+            .collect();
+        Layer::new(
+            size,
+            LayerAttributes::named(name),
+            Encoding::FAST_LOSSLESS,
+            AnyChannels::sort(SmallVec::from_vec(list)),
+        )
+    };
+    let mut layers = vec![layer("color", &color, &["R", "G", "B"])];
+    for p in film.planes() {
+        let names: &[&str] = match p.channels {
+            1 => &["Y"],
+            2 => &["U", "V"],
+            3 => &["X", "Y", "Z"],
+            _ => continue,
+        };
+        layers.push(layer(&p.name, &p.data, names));
+    }
+    let image = Image::from_layers(
+        ImageAttributes::new(IntegerBounds::from_dimensions(size)),
+        layers,
+    );
+    let mut out = std::io::Cursor::new(Vec::new());
+    image
+        .write()
+        .to_buffered(&mut out)
+        .map_err(|e| write_err(path, e))?;
+    write_atomically(path, &out.into_inner()).map_err(|e| write_err(path, e))
+}
+
+/// The range of the finite values of channel `c` among the pixels `hit`.
+fn range(p: &Plane, c: usize, hit: &[bool]) -> (f32, f32) {
+    let mut lo = f32::INFINITY;
+    let mut hi = f32::NEG_INFINITY;
+    for (px, &h) in p.data.chunks(p.channels).zip(hit) {
+        if h && px[c].is_finite() {
+            lo = lo.min(px[c]);
+            hi = hi.max(px[c]);
+        }
+    }
+    if lo > hi { (0.0, 0.0) } else { (lo, hi) }
+}
+
+/// Writes each plane of `film` beside `picture` as an 8-bit image of the
+/// picture's format (with its sidecar or legend); returns the files written.
+/// `table` names the primitives; `file` is the scene's file name.
+pub fn save_pass_images(
+    film: &Film,
+    picture: &Path,
+    table: &PrimitiveTable,
+    file: Option<&str>,
+) -> Result<Vec<PathBuf>, SaveError> {
+    let format = Format::from_path(picture)?;
+    let ext = picture
+        .extension()
+        .map(|e| e.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let (w, h) = (film.image().width(), film.image().height());
+    // The pixels whose centre ray hit something, from the primitive or depth plane.
+    let hit: Vec<bool> = match (film.plane("primitive"), film.plane("depth")) {
+        (Some(p), _) => p.data.iter().map(|&v| v != -1.0).collect(),
+        (None, Some(d)) => d.data.iter().map(|&v| v > 0.0).collect(),
+        _ => vec![true; (w * h) as usize],
+    };
+    let mut written = Vec::new();
+    for p in film.planes() {
+        let mut sidecar = None;
+        let pixels: Vec<[f32; 3]> = match p.name.as_str() {
+            "normal" => p
+                .data
+                .chunks(3)
+                .zip(&hit)
+                .map(|(n, &h)| {
+                    if h {
+                        [0.5 + 0.5 * n[0], 0.5 + 0.5 * n[1], 0.5 + 0.5 * n[2]]
+                    } else {
+                        [0.0; 3]
+                    }
+                })
+                .collect(),
+            "primitive" => {
+                let mut legend = serde_json::Map::new();
+                let pixels = p
+                    .data
+                    .iter()
+                    .map(|&v| {
+                        let c = primitive_colour(v);
+                        if v != -1.0 {
+                            let key = format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2]);
+                            legend
+                                .entry(key)
+                                .or_insert_with(|| legend_entry(v, table, file));
+                        }
+                        c.map(|b| b as f32 / 255.0 + 0.5 / 255.0)
+                    })
+                    .collect();
+                sidecar = Some(serde_json::Value::Object(legend));
+                pixels
+            }
+            _ => {
+                let ranges: Vec<(f32, f32)> = (0..p.channels).map(|c| range(p, c, &hit)).collect();
+                if matches!(p.name.as_str(), "depth" | "position" | "rays") {
+                    sidecar = Some(serde_json::json!({
+                        "min": ranges.iter().map(|r| r.0).collect::<Vec<_>>(),
+                        "max": ranges.iter().map(|r| r.1).collect::<Vec<_>>(),
+                        "mapping": "byte = floor(255 * (value - min) / (max - min)); pixels that hit nothing are black",
+                    }));
+                }
+                p.data
+                    .chunks(p.channels)
+                    .zip(&hit)
+                    .map(|(v, &h)| {
+                        let mut out = [0f32; 3];
+                        for (c, o) in out.iter_mut().enumerate() {
+                            let x = v[c.min(p.channels - 1)];
+                            *o = match (h, sidecar.is_some()) {
+                                (false, _) => 0.0,
+                                (true, true) => {
+                                    let (lo, hi) = ranges[c.min(p.channels - 1)];
+                                    if hi > lo { (x - lo) / (hi - lo) } else { 1.0 }
+                                }
+                                (true, false) if c < p.channels => x,
+                                (true, false) => 0.0,
+                            };
+                        }
+                        out
+                    })
+                    .collect()
+            }
+        };
+        let path = pass_path(picture, &p.name, &ext);
+        let bytes = Image::from_pixels(w, h, pixels)
+            .encode(format)
+            .map_err(|e| write_err(&path, e))?;
+        write_atomically(&path, &bytes).map_err(|e| write_err(&path, e))?;
+        written.push(path);
+        if let Some(json) = sidecar {
+            let path = pass_path(picture, &p.name, "json");
+            write_atomically(&path, format!("{json:#}\n").as_bytes())
+                .map_err(|e| write_err(&path, e))?;
+            written.push(path);
+        }
+    }
+    Ok(written)
+}
+
+/// The legend's entry for a primitive plane's value.
+fn legend_entry(v: f32, table: &PrimitiveTable, file: Option<&str>) -> serde_json::Value {
+    if v <= -2.0 {
+        return serde_json::json!({"light": (-2.0 - v) as u32, "type": "light", "file": file});
+    }
+    let index = v as u32;
+    let (kind, line) = table.get(&index).copied().unwrap_or(("?", None));
+    serde_json::json!({"index": index, "type": kind, "file": file, "line": line})
+}

@@ -1,0 +1,167 @@
+//! The verdict of `glint explain`: the one cause that decides a pixel,
+//! named in a sentence a student understands.
+
+use crate::integrator::{HitInfo, RayKind, RayNode};
+
+/// `file:line` of a block (`line N` without a file, `?` without a line).
+pub(crate) fn place(file: Option<&str>, line: Option<u32>) -> String {
+    match (file, line) {
+        (Some(f), Some(l)) => format!("{f}:{l}"),
+        (None, Some(l)) => format!("line {l}"),
+        _ => "?".to_string(),
+    }
+}
+
+/// What a hit is called: `sphere #2 (scene.txt:14)` or `light #1's surface (scene.txt:5)`.
+pub(crate) fn named(hit: &HitInfo, file: Option<&str>) -> String {
+    match (hit.primitive, hit.light) {
+        (Some(b), _) => format!("{} #{b} ({})", hit.kind, place(file, hit.line)),
+        (None, Some(l)) => format!("light #{l}'s surface ({})", place(file, hit.line)),
+        (None, None) => hit.kind.to_string(),
+    }
+}
+
+/// The verdict for a pixel whose samples are `samples` and bytes `bytes`.
+pub(crate) fn verdict(samples: &[RayNode], bytes: [u8; 3], file: Option<&str>) -> String {
+    let Some(root) = samples.first() else {
+        return "no sample was traced".to_string();
+    };
+    let mut said = vec![cause(root, bytes, file)];
+    if samples.len() > 1 {
+        let misses = samples.iter().filter(|s| s.hit.is_none()).count();
+        let mut firsts: Vec<Option<u32>> = samples
+            .iter()
+            .map(|s| s.hit.as_ref().and_then(|h| h.primitive))
+            .collect();
+        firsts.sort_unstable();
+        firsts.dedup();
+        if firsts.len() > 1 || misses > 0 && misses < samples.len() {
+            said.push(format!(
+                "The pixel's {} samples see different things (an edge), and their mean is what is written.",
+                samples.len()
+            ));
+        }
+    }
+    let mut tir = None;
+    let mut cut = false;
+    walk(root, &mut |n| {
+        cut |= !n.cut.is_empty();
+        if n.kind == RayKind::TotalInternalReflection && tir.is_none() {
+            tir = Some(n.depth);
+        }
+    });
+    if let Some(d) = tir {
+        said.push(format!(
+            "A refraction ray at depth {d} meets total internal reflection: it bounces back inside the glass."
+        ));
+    }
+    if cut {
+        said.push(
+            "The depth limit (10) stops a reflection or refraction ray: what it would see counts as black."
+                .to_string(),
+        );
+    }
+    said.join(" ")
+}
+
+/// The main cause, from the first sample's tree.
+fn cause(root: &RayNode, bytes: [u8; 3], file: Option<&str>) -> String {
+    let Some(hit) = &root.hit else {
+        return "background: the camera ray misses every object, so the pixel is the background's colour."
+            .to_string();
+    };
+    let what = named(hit, file);
+    if hit.light.is_some() {
+        return format!(
+            "light: the camera ray sees {what} directly, which shows the light's colour."
+        );
+    }
+    let Some(m) = root.material else {
+        return format!("the camera ray hits {what}.");
+    };
+    let zero = m.color == glam::DVec3::ZERO
+        || (m.diff <= 0.0 && m.spec <= 0.0 && m.refl <= 0.0 && m.refr <= 0.0);
+    if zero {
+        return format!(
+            "black: the material of {what} is all zero (colour or every one of diff, spec, refl, refr), so it neither reflects light nor lets any through."
+        );
+    }
+    let side = if hit.front {
+        ""
+    } else {
+        " from behind (its back face)"
+    };
+    let lit_keys = m.diff > 0.0 || m.spec > 0.0;
+    let facing: Vec<_> = root.lights.iter().filter(|l| l.l_dot_n > 0.0).collect();
+    let lit: Vec<_> = facing.iter().filter(|l| l.s > 0.0).collect();
+    let clamped = root
+        .unclamped
+        .is_some_and(|u| u.max_element() > 1.0 && bytes.contains(&255));
+    let light_name = |i: u32, line| format!("light #{i} ({})", place(file, line));
+    let main = if !lit_keys {
+        format!(
+            "{what}{side} has no diffuse or specular term: its colour comes only from what it reflects or lets through."
+        )
+    } else if root.lights.is_empty() {
+        format!(
+            "{what}{side} is seen, but the scene has no light, and the model has no ambient term."
+        )
+    } else if facing.is_empty() {
+        format!(
+            "black: the camera ray hits {what}{side}, which faces away from every light, and the model has no ambient term (the framework renders it black too)."
+        )
+    } else if lit.is_empty() {
+        let blocked = facing.iter().find_map(|l| {
+            l.blocker.as_ref().map(|b| {
+                let by = match (b.primitive, b.light) {
+                    (Some(p), _) => format!("{} #{p} at {}", b.kind, place(file, b.line)),
+                    (None, Some(i)) => format!("light #{i}'s surface at {}", place(file, b.line)),
+                    (None, None) => b.kind.to_string(),
+                };
+                format!(
+                    "in shadow: {what}{side} is in the shadow of {by}, which blocks the ray to {} at t {:.4}.",
+                    light_name(l.light, l.line),
+                    b.t
+                )
+            })
+        });
+        blocked.unwrap_or_else(|| {
+            format!(
+                "in shadow: {what}{side} faces the lights, but every shadow ray towards them is blocked."
+            )
+        })
+    } else if let [l] = lit[..] {
+        let by = format!(
+            "{} (shade {}/{})",
+            light_name(l.light, l.line),
+            l.reached,
+            l.rays
+        );
+        if root.lights.len() > 1 {
+            format!(
+                "lit by {by} alone: the other lights face away from {what}{side} or are blocked."
+            )
+        } else {
+            format!("{what}{side} is lit by the scene's one light, {by}.")
+        }
+    } else {
+        format!(
+            "{what}{side} is lit by {} of the scene's {} lights.",
+            lit.len(),
+            root.lights.len()
+        )
+    };
+    if clamped {
+        format!("{main} Clamped: the sum exceeds 1 in a channel and is cut to 1 (byte 255).")
+    } else {
+        main
+    }
+}
+
+/// Calls `f` on every node of the tree, parents first.
+pub(crate) fn walk<'a>(node: &'a RayNode, f: &mut impl FnMut(&'a RayNode)) {
+    f(node);
+    for c in &node.children {
+        walk(c, f);
+    }
+}

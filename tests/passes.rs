@@ -1,0 +1,289 @@
+//! Passes (AOVs) against the probe, the scene's materials, and the files
+//! `glint render --aov` writes.
+
+mod common;
+
+use common::camera_dir;
+use glam::DVec3;
+use glint::{Aov, Film, RenderOptions, Renderer, Scene};
+
+/// Spheres, a cube and a floor with known colours, under one light.
+const SCENE: &str = "background\n color= 0.2 0.3 0.4\nend\n\
+camera\n O= 0 -8 3\n N= 0 1 -0.3\n image_W= 40\n image_H= 30\nend\n\
+light point\n O= 4 -6 8\n color= 1 1 1\nend\n\
+primitive plane\n N= 0 0 1\n R= 0\n color= 0.8 0.7 0.6\n diff= 0.7\n refl= 0.2\nend\n\
+primitive sphere\n O= -1.2 -0.5 1\n R= 1\n color= 0.1 0.9 0.3\n diff= 0.5\n refr= 0.5\n rindex= 1.5\nend\n\
+primitive cube\n O= 1.5 0 1\n x= 0.7\n y= 0.7\n z= 0.7\n color= 1 0.3 0.2\n diff= 0.6\nend\n";
+
+/// The material colour of each primitive block of [`SCENE`].
+const COLOURS: [[f32; 3]; 3] = [[0.8, 0.7, 0.6], [0.1, 0.9, 0.3], [1.0, 0.3, 0.2]];
+
+fn film(spp: Option<u32>) -> (Scene, Renderer, Film) {
+    let s = Scene::parse(SCENE, ".").unwrap_or_else(|e| panic!("{e}"));
+    let r = Renderer::new(s.clone());
+    let options = RenderOptions {
+        spp,
+        aovs: Aov::ALL.to_vec(),
+        ..RenderOptions::default()
+    };
+    let f = r.render(&options).unwrap_or_else(|e| panic!("{e}"));
+    (s, r, f)
+}
+
+#[test]
+fn first_hit_passes_match_the_probe_and_the_materials() {
+    let (s, r, f) = film(None);
+    let cam = s.camera().clone();
+    let plane = |name: &str| f.plane(name).unwrap_or_else(|| panic!("no {name} plane"));
+    let (normal, depth, position, prim, albedo, uv) = (
+        plane("normal"),
+        plane("depth"),
+        plane("position"),
+        plane("primitive"),
+        plane("albedo"),
+        plane("uv"),
+    );
+    assert_eq!((normal.channels, depth.channels, uv.channels), (3, 1, 2));
+    let (mut hits, mut misses) = (0, 0);
+    for y in 0..cam.height {
+        for x in 0..cam.width {
+            let i = (y * cam.width + x) as usize;
+            let d = camera_dir(
+                cam.dir,
+                (cam.lens_w, cam.lens_h),
+                (cam.width, cam.height),
+                x,
+                y,
+            );
+            let v3 = |p: &glint::Plane| {
+                DVec3::new(
+                    p.data[3 * i] as f64,
+                    p.data[3 * i + 1] as f64,
+                    p.data[3 * i + 2] as f64,
+                )
+            };
+            match r.probe(cam.origin, d) {
+                None => {
+                    misses += 1;
+                    assert_eq!(prim.data[i], -1.0, "pixel {x} {y}");
+                    assert_eq!(depth.data[i], 0.0);
+                }
+                Some(h) => {
+                    hits += 1;
+                    let b = h.primitive.unwrap_or(u32::MAX);
+                    assert_eq!(prim.data[i], b as f32, "pixel {x} {y}");
+                    let tol = 1e-5 * (1.0 + h.t);
+                    assert!((depth.data[i] as f64 - h.t).abs() < tol, "pixel {x} {y}");
+                    assert!((v3(normal) - h.normal).length() < 1e-5, "pixel {x} {y}");
+                    assert!((v3(position) - h.point).length() < tol, "pixel {x} {y}");
+                    let want = COLOURS[b as usize];
+                    assert_eq!(&albedo.data[3 * i..3 * i + 3], &want[..], "pixel {x} {y}");
+                }
+            }
+        }
+    }
+    assert!(hits > 300 && misses > 50, "{hits} hits, {misses} misses");
+}
+
+#[test]
+fn passes_leave_the_picture_alone_and_follow_a_region() {
+    for spp in [None, Some(2)] {
+        let (_, r, f) = film(spp);
+        let plain = r
+            .render(&RenderOptions {
+                spp,
+                ..RenderOptions::default()
+            })
+            .unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(f.image(), plain.image());
+        assert!(plain.planes().is_empty());
+        let region = glint::Region {
+            x: 7,
+            y: 5,
+            width: 11,
+            height: 9,
+        };
+        let part = r
+            .render(&RenderOptions {
+                spp,
+                region: Some(region),
+                aovs: Aov::ALL.to_vec(),
+                ..RenderOptions::default()
+            })
+            .unwrap_or_else(|e| panic!("{e}"));
+        for aov in Aov::ALL {
+            let (whole, cut) = (
+                f.plane(aov.name()).map(|p| &p.data),
+                part.plane(aov.name()).map(|p| &p.data),
+            );
+            let (Some(whole), Some(cut)) = (whole, cut) else {
+                panic!("{} missing", aov.name());
+            };
+            let c = aov.channels();
+            for j in 0..region.height as usize {
+                for i in 0..region.width as usize {
+                    let a = ((region.y as usize + j) * 40 + region.x as usize + i) * c;
+                    let b = (j * region.width as usize + i) * c;
+                    assert_eq!(whole[a..a + c], cut[b..b + c], "{} {i} {j}", aov.name());
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn pass_lists_parse_and_unknown_names_are_refused() {
+    assert_eq!(
+        Aov::parse_list("normal, depth,normal"),
+        Ok(vec![Aov::Normal, Aov::Depth])
+    );
+    assert!(
+        Aov::parse_list("normals").is_err_and(|e| e.contains("normals") && e.contains("albedo"))
+    );
+}
+
+/// `--aov` with a PNG writes one file per pass and the legends, the
+/// normals as floor(255·(0.5 + 0.5·n)).
+#[test]
+fn the_cli_writes_pass_files_beside_the_picture() {
+    let dir = std::env::temp_dir().join(format!("glint-passes-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{e}"));
+    let scene = dir.join("s.txt");
+    std::fs::write(&scene, SCENE).unwrap_or_else(|e| panic!("{e}"));
+    let out = dir.join("shot.png");
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_glint"))
+        .args(["render", "--quiet", "--aov", "normal,depth,primitive", "-o"])
+        .arg(&out)
+        .arg(&scene)
+        .status()
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(status.success());
+    for f in [
+        "shot.png",
+        "shot.normal.png",
+        "shot.depth.png",
+        "shot.depth.json",
+        "shot.primitive.png",
+        "shot.primitive.json",
+    ] {
+        assert!(dir.join(f).exists(), "{f} missing");
+    }
+    let legend: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("shot.primitive.json")).unwrap_or_default(),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let entries = legend.as_object().map(|m| m.len()).unwrap_or(0);
+    assert_eq!(entries, 3, "{legend}");
+    let cube = glint::primitive_colour(2.0);
+    let key = format!("#{:02x}{:02x}{:02x}", cube[0], cube[1], cube[2]);
+    assert_eq!(legend[&key]["type"], "cube");
+    let line = SCENE
+        .lines()
+        .position(|l| l == "primitive cube")
+        .map(|i| i + 1);
+    assert_eq!(legend[&key]["line"].as_u64(), line.map(|l| l as u64));
+
+    let img = image::open(dir.join("shot.normal.png"))
+        .unwrap_or_else(|e| panic!("{e}"))
+        .to_rgb8();
+    let (_, r, f) = film(None);
+    drop(r);
+    let n = f
+        .plane("normal")
+        .map(|p| p.data.clone())
+        .unwrap_or_default();
+    let prim = f
+        .plane("primitive")
+        .map(|p| p.data.clone())
+        .unwrap_or_default();
+    for (i, px) in img.pixels().enumerate() {
+        if prim[i] == -1.0 {
+            assert_eq!(px.0, [0, 0, 0]);
+            continue;
+        }
+        for c in 0..3 {
+            let want = (255.0 * (0.5 + 0.5 * n[3 * i + c]).clamp(0.0, 1.0)).floor() as u8;
+            assert_eq!(px.0[c], want, "pixel {i}");
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// An `.exr` holds the picture and every pass as layers, values exact.
+#[test]
+fn an_exr_holds_the_passes_as_layers() {
+    let (_, _, f) = film(Some(1));
+    let path = std::env::temp_dir().join(format!("glint-layers-{}.exr", std::process::id()));
+    glint::save_exr_layers(&f, &path).unwrap_or_else(|e| panic!("{e}"));
+    let image =
+        exr::prelude::read_all_flat_layers_from_file(&path).unwrap_or_else(|e| panic!("{e}"));
+    let _ = std::fs::remove_file(&path);
+    let names: Vec<String> = image
+        .layer_data
+        .iter()
+        .map(|l| {
+            l.attributes
+                .layer_name
+                .as_ref()
+                .map(|n| n.to_string())
+                .unwrap_or_default()
+        })
+        .collect();
+    let want: Vec<&str> = std::iter::once("color")
+        .chain(Aov::ALL.iter().map(|a| a.name()))
+        .collect();
+    assert_eq!(names, want);
+    let depth = &image.layer_data[2].channel_data.list[0].sample_data;
+    let want = f.plane("depth").map(|p| p.data.clone()).unwrap_or_default();
+    let got: Vec<f32> = depth.values_as_f32().collect();
+    assert_eq!(got, want);
+}
+
+/// Rays per pixel: at --spp 1 over a lit floor, the camera ray and one
+/// shadow ray where the floor is hit, the camera ray alone elsewhere; with
+/// the anti-aliasing, the plane adds up to the render's tally.
+#[test]
+fn the_rays_pass_counts_each_pixels_rays() {
+    let s = Scene::parse(
+        "camera\n O= 0 0 1\n N= 0 1 0\n image_W= 12\n image_H= 10\nend\n\
+         light point\n O= 0 5 6\n color= 1 1 1\nend\n\
+         primitive plane\n N= 0 0 1\n R= 0\n color= 1 1 1\n diff= 1\nend\n",
+        ".",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let r = Renderer::new(s.clone());
+    let options = RenderOptions {
+        spp: Some(1),
+        aovs: vec![Aov::Rays, Aov::Depth],
+        ..RenderOptions::default()
+    };
+    let f = r.render(&options).unwrap_or_else(|e| panic!("{e}"));
+    let rays = f.plane("rays").map(|p| p.data.clone()).unwrap_or_default();
+    let cam = s.camera();
+    for y in 0..cam.height {
+        for x in 0..cam.width {
+            let d = camera_dir(cam.dir, (cam.lens_w, cam.lens_h), (12, 10), x, y);
+            let want = if r.probe(cam.origin, d).is_some() {
+                2.0
+            } else {
+                1.0
+            };
+            assert_eq!(rays[(y * 12 + x) as usize], want, "pixel {x} {y}");
+        }
+    }
+    assert_eq!(f.planes()[0].name, "rays", "in the order asked for");
+    let (_, r, _) = film(None);
+    let adaptive = RenderOptions {
+        aovs: vec![Aov::Rays],
+        ..RenderOptions::default()
+    };
+    let (f, stats) = r
+        .render_with(&adaptive, glint::Control::default())
+        .unwrap_or_else(|e| panic!("{e}"));
+    let sum: f64 = f
+        .plane("rays")
+        .map_or(0.0, |p| p.data.iter().map(|&v| v as f64).sum());
+    assert_eq!(sum, stats.rays.total() as f64);
+    assert!(stats.refined_pixels > 0);
+}
