@@ -36,7 +36,9 @@ pub mod scene;
 pub use geometry::Shape;
 pub use integrator::RayCounts;
 pub use output::{Format, Image, SaveError};
-pub use probe::{ProbeHit, RayError, parse_ray, to_json, to_text};
+pub use probe::{
+    MAX_RAY_ERRORS, ProbeHit, RayError, RaysError, parse_ray, read_rays, to_json, to_text,
+};
 pub use render::{
     Control, Film, MAX_THREADS, Plane, Region, RenderError, RenderOptions, RenderStats, Renderer,
     Stage, memory_needed,

@@ -854,6 +854,11 @@ fn missing_and_unreadable_files() {
     );
     let d = error_at("primitive mesh\n  O= 0 0 0\nend", 1, 1);
     assert!(d.message.contains("`file=`"), "{d}");
+    // A directory or a device: said so at the key, never "not found".
+    let d = error_at("primitive sphere\n R= 1\n texture= /tmp\nend", 3, 2);
+    assert!(d.message.contains("/tmp) is a directory"), "{d}");
+    let d = error_at("primitive mesh\n  file= /dev/zero\nend", 2, 3);
+    assert!(d.message.contains("is not a regular file"), "{d}");
 }
 
 #[test]
