@@ -2,13 +2,15 @@
 
 use clap::{Args, Parser, Subcommand};
 use glint::{
-    Control, Format, MAX_THREADS, RenderError, RenderOptions, Renderer, Scene, memory_needed,
-    parse_ray, to_json, to_text,
+    Control, Format, MAX_THREADS, RaysError, RenderError, RenderOptions, Renderer, Scene,
+    memory_needed, read_rays, to_json, to_text,
 };
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use std::io::{BufRead, IsTerminal, Read, Write};
+use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 /// glint: a fast, exact ray tracer for the teaching framework's scene files.
@@ -110,22 +112,83 @@ fn colour() -> bool {
     std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none_or(|v| v.is_empty())
 }
 
-/// A failure to report: the message, printed escaped (if not empty), and exit code 2.
-struct Failure(String);
+/// Writes text that is already safe for a terminal (rendered diagnostics) and
+/// a line break to stderr; a stderr that cannot be written is ignored, as
+/// there is nowhere left to report it, and the exit code still tells.
+fn say_raw(text: &str) {
+    let _ = writeln!(std::io::stderr().lock(), "{text}");
+}
+
+/// Writes a message to stderr escaped through [`shown`] (see [`say_raw`]).
+fn say(text: &str) {
+    say_raw(&shown(text));
+}
+
+/// Why the command stops early.
+enum Failure {
+    /// A message, printed escaped (if not empty), and exit code 2.
+    Error(String),
+    /// SIGINT or SIGTERM arrived: "interrupted", exit code 130.
+    Interrupted,
+}
+
+/// A [`Failure::Error`] with the message `message`.
+fn fail(message: impl Into<String>) -> Failure {
+    Failure::Error(message.into())
+}
+
+/// Set by SIGINT and SIGTERM: the render stops, nothing is written. A second
+/// signal ends the process at once.
+fn interrupt_flag() -> Arc<AtomicBool> {
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    let flag = Arc::new(AtomicBool::new(false));
+    for signal in [SIGINT, SIGTERM] {
+        // Registering fails only for signals that cannot be caught; then the
+        // default action (ending the process) stays, which is safe.
+        let _ = signal_hook::flag::register_conditional_shutdown(signal, 130, flag.clone());
+        let _ = signal_hook::flag::register(signal, flag.clone());
+    }
+    flag
+}
+
+/// `Err(Interrupted)` once a signal has arrived.
+fn check_interrupt(flag: &AtomicBool) -> Result<(), Failure> {
+    if flag.load(Ordering::Relaxed) {
+        return Err(Failure::Interrupted);
+    }
+    Ok(())
+}
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let interrupt = interrupt_flag();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) if e.use_stderr() => {
+            // Argument errors quote the arguments: escape them like the rest.
+            let _ = write!(std::io::stderr().lock(), "{}", shown(&e.to_string()));
+            return ExitCode::from(2);
+        }
+        Err(e) => {
+            // --help and --version go to stdout.
+            let _ = e.print();
+            return ExitCode::SUCCESS;
+        }
+    };
     let result = match cli.command {
-        Command::Render(args) => run_render(args),
+        Command::Render(args) => run_render(args, &interrupt),
         Command::Probe(args) => run_probe(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(Failure(message)) => {
+        Err(Failure::Error(message)) => {
             if !message.is_empty() {
-                eprintln!("{}", shown(&message));
+                say(&message);
             }
             ExitCode::from(2)
+        }
+        Err(Failure::Interrupted) => {
+            say("interrupted");
+            ExitCode::from(130)
         }
     }
 }
@@ -135,27 +198,54 @@ fn main() -> ExitCode {
 fn load_scene(path: &Path) -> Result<Scene, Failure> {
     let colour = colour();
     let scene = Scene::from_file(path).map_err(|e| {
-        eprintln!("{}", e.render(colour));
-        Failure(String::new())
+        say_raw(&e.render(colour));
+        fail("")
     })?;
     for w in scene.warnings() {
-        eprintln!("{}\n", w.render(colour));
+        say_raw(&format!("{}\n", w.render(colour)));
     }
     Ok(scene)
 }
 
-fn run_render(args: RenderArgs) -> Result<(), Failure> {
+/// Refuses an output that is the scene file itself (the same file by device
+/// and inode, whatever the names: `a.png -o ./a.png`, a hard link).
+fn refuse_scene_as_output(scene: &Path, output: &Path) -> Result<(), Failure> {
+    let (Ok(s), Ok(o)) = (std::fs::metadata(scene), std::fs::metadata(output)) else {
+        return Ok(()); // no output file yet (or no scene, reported when read)
+    };
+    #[cfg(unix)]
+    let same = {
+        use std::os::unix::fs::MetadataExt;
+        (s.dev(), s.ino()) == (o.dev(), o.ino())
+    };
+    #[cfg(not(unix))]
+    let same = {
+        let _ = (s, o);
+        std::fs::canonicalize(scene).ok() == std::fs::canonicalize(output).ok()
+    };
+    if same {
+        return Err(fail(format!(
+            "error: the output {} is the scene file {}: refusing to write over it (choose another name with -o)",
+            output.display(),
+            scene.display()
+        )));
+    }
+    Ok(())
+}
+
+fn run_render(args: RenderArgs, interrupt: &AtomicBool) -> Result<(), Failure> {
     let start = Instant::now();
-    let scene = load_scene(&args.scene)?;
     let output = args.output.clone().unwrap_or_else(|| {
         let stem = args.scene.file_stem().unwrap_or_default();
         PathBuf::from(stem).with_extension("png")
     });
     // Fail on the output path before spending the render time.
-    Format::from_path(&output).map_err(|e| Failure(format!("error: {e}")))?;
+    refuse_scene_as_output(&args.scene, &output)?;
+    let scene = load_scene(&args.scene)?;
+    Format::from_path(&output).map_err(|e| fail(format!("error: {e}")))?;
     if args.verbose {
         for note in scene.notes() {
-            eprintln!("note: {}", shown(note));
+            say(&format!("note: {note}"));
         }
     }
     let options = RenderOptions {
@@ -166,9 +256,11 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
         height: args.height,
         region: None,
     };
+    check_interrupt(interrupt)?;
     let renderer = Renderer::new(scene);
     let (w, h) = renderer.frame_size(&options).map_err(render_failure)?;
     check_memory(w, h)?;
+    check_interrupt(interrupt)?;
 
     let bar = if args.quiet || !std::io::stderr().is_terminal() {
         ProgressBar::hidden()
@@ -187,18 +279,17 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
     };
     let control = Control {
         progress: Some(&progress),
-        cancel: None,
+        cancel: Some(interrupt),
     };
-    let (film, stats) = renderer
-        .render_with(&options, control)
-        .map_err(render_failure)?;
+    let rendered = renderer.render_with(&options, control);
     bar.finish_and_clear();
-    film.image()
-        .save(&output)
-        .map_err(|e| Failure(format!("error: cannot write the image: {e}")))?;
+    let (film, stats) = rendered.map_err(render_failure)?;
+    let saved = film.image().save_unless(&output, interrupt);
+    check_interrupt(interrupt)?;
+    saved.map_err(|e| fail(format!("error: cannot write the image: {e}")))?;
     if !args.quiet {
         let r = stats.rays;
-        eprintln!(
+        say(&format!(
             "{}: {}x{}, {:.3} s wall ({:.3} s render, {:.3} s BVH), {:.1} M rays, {:.1} Mrays/s",
             output.display(),
             w,
@@ -208,12 +299,12 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
             stats.build.as_secs_f64(),
             r.total() as f64 / 1e6,
             stats.mrays_per_sec()
-        );
+        ));
         if args.verbose {
-            eprintln!(
+            say(&format!(
                 "rays: camera {}, reflected {}, refracted {}, shadow {}; {} pixels anti-aliased",
                 r.camera, r.reflected, r.refracted, r.shadow, stats.refined_pixels
-            );
+            ));
         }
     }
     Ok(())
@@ -222,8 +313,9 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
 /// A render that could not start: a size option out of range names its option.
 fn render_failure(e: RenderError) -> Failure {
     match e {
-        RenderError::Side { .. } => Failure(format!("error: --{e}")),
-        _ => Failure(format!("error: {e}")),
+        RenderError::Cancelled => Failure::Interrupted,
+        RenderError::Side { .. } => fail(format!("error: --{e}")),
+        _ => fail(format!("error: {e}")),
     }
 }
 
@@ -238,7 +330,7 @@ fn check_memory(w: u32, h: u32) -> Result<(), Failure> {
             .map(|kb| kb * 1024)
     });
     match available {
-        Some(avail) if need > avail => Err(Failure(format!(
+        Some(avail) if need > avail => Err(fail(format!(
             "error: a {w}x{h} image needs about {:.1} GiB of memory, but only {:.1} GiB is available",
             need as f64 / (1u64 << 30) as f64,
             avail as f64 / (1u64 << 30) as f64
@@ -250,36 +342,29 @@ fn check_memory(w: u32, h: u32) -> Result<(), Failure> {
 fn run_probe(args: ProbeArgs) -> Result<(), Failure> {
     let scene = load_scene(&args.scene)?;
     let name = args.rays.display().to_string();
-    let mut text = String::new();
+    let cannot_read =
+        |e: &dyn std::fmt::Display| fail(format!("error: cannot read the rays from {name}: {e}"));
+    // Every line is checked before anything is printed.
     let read = if name == "-" {
-        std::io::stdin().lock().read_to_string(&mut text)
+        read_rays(std::io::stdin().lock())
     } else {
-        std::fs::File::open(&args.rays).and_then(|mut f| f.read_to_string(&mut text))
+        let file = std::fs::File::open(&args.rays).map_err(|e| cannot_read(&e))?;
+        read_rays(file)
     };
-    read.map_err(|e| Failure(format!("error: cannot read the rays from {name}: {e}")))?;
-
-    // Validate every line before printing anything.
-    let mut rays = Vec::new();
-    let mut errors = Vec::new();
-    for (n, line) in text.as_bytes().lines().enumerate() {
-        let line = line.unwrap_or_default();
-        let body = line.split('#').next().unwrap_or("");
-        if body.trim().is_empty() {
-            continue;
+    let rays = match read {
+        Ok(rays) => rays,
+        Err(RaysError::Read(e)) => return Err(cannot_read(&e)),
+        Err(RaysError::Lines(errors, more)) => {
+            let mut lines: Vec<String> = errors
+                .iter()
+                .map(|(n, e)| format!("error: {name}:{n}:{}: {}", e.column, e.message))
+                .collect();
+            if more > 0 {
+                lines.push(format!("… and {more} more bad lines"));
+            }
+            return Err(fail(lines.join("\n")));
         }
-        match parse_ray(body) {
-            Ok(r) => rays.push(r),
-            Err(e) => errors.push(format!(
-                "error: {name}:{}:{}: {}",
-                n + 1,
-                e.column,
-                e.message
-            )),
-        }
-    }
-    if !errors.is_empty() {
-        return Err(Failure(errors.join("\n")));
-    }
+    };
 
     let prober = Renderer::new(scene);
     let lines: Vec<String> = {
@@ -302,11 +387,14 @@ fn run_probe(args: ProbeArgs) -> Result<(), Failure> {
     };
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
-    for chunk in lines {
-        if out.write_all(chunk.as_bytes()).is_err() {
-            return Ok(()); // the reader went away (e.g. `| head`)
-        }
+    let written = lines
+        .iter()
+        .try_for_each(|chunk| out.write_all(chunk.as_bytes()))
+        .and_then(|()| out.flush());
+    match written {
+        // The reader went away (e.g. `| head`): nothing more to say.
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        Err(e) => Err(fail(format!("error: cannot write the probe answers: {e}"))),
+        Ok(()) => Ok(()),
     }
-    let _ = out.flush();
-    Ok(())
 }
