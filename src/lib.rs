@@ -33,6 +33,21 @@ mod render;
 mod sampling;
 pub mod scene;
 
+/// The private readers the fuzz targets (`fuzz/`) drive; not a public API.
+#[cfg(feature = "fuzzing")]
+#[doc(hidden)]
+pub mod fuzzing {
+    /// Parses OBJ text as a `primitive mesh` file would be (errors are messages).
+    pub fn obj(bytes: &[u8]) -> Result<usize, String> {
+        crate::format::parse_obj(bytes).map(|models| models.len())
+    }
+
+    /// Decodes image bytes as a texture would be (errors are messages).
+    pub fn texture(bytes: &[u8]) -> Result<(), String> {
+        crate::format::decode_texture_bytes(bytes).map(|_| ())
+    }
+}
+
 pub use geometry::Shape;
 pub use integrator::RayCounts;
 pub use output::{Format, Image, SaveError};
@@ -41,7 +56,7 @@ pub use probe::{
 };
 pub use render::{
     Control, Film, MAX_THREADS, Plane, Region, RenderError, RenderOptions, RenderStats, Renderer,
-    Stage, memory_needed,
+    Stage, WorkEstimate, memory_needed,
 };
 pub use scene::{Scene, SceneError};
 

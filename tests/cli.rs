@@ -487,25 +487,33 @@ fn a_scene_is_never_overwritten_by_its_own_output() {
     );
 }
 
+/// Starts `glint render SCENE -o OUT --quiet` and the `extra` arguments, stderr piped.
+fn spawn_render(scene: &str, out: &Path, extra: &[&str]) -> std::process::Child {
+    Command::new(env!("CARGO_BIN_EXE_glint"))
+        .args(["render", scene, "-o", out.to_str().unwrap(), "--quiet"])
+        .args(extra)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap()
+}
+
+/// Sends SIGTERM to a child.
+fn terminate(child: &std::process::Child) -> bool {
+    let pid = child.id().to_string();
+    let status = Command::new("kill").args(["-TERM", &pid]).status();
+    status.is_ok_and(|s| s.success())
+}
+
 #[test]
 fn a_signal_stops_the_render_and_leaves_no_file() {
     let dir = scratch("signal");
     let scene = write(&dir, "s.txt", SMALL);
     let out = dir.join("s.png");
-    let child = Command::new(env!("CARGO_BIN_EXE_glint"))
-        .args(["render", &scene, "-o", out.to_str().unwrap()])
-        .args(["--width", "2000", "--spp", "4096", "--quiet"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let child = spawn_render(&scene, &out, &["--width", "2000", "--spp", "4096"]);
     std::thread::sleep(std::time::Duration::from_millis(300));
     let start = std::time::Instant::now();
-    let killed = Command::new("kill")
-        .args(["-TERM", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(killed.success());
+    assert!(terminate(&child));
     let o = child.wait_with_output().unwrap();
     assert!(start.elapsed().as_secs() < 10, "stopped promptly");
     assert_eq!(o.status.code(), Some(130));
@@ -674,4 +682,70 @@ fn probe_rays_keep_the_scene_limits_and_json_stays_json() {
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("u.txt:2:5:"), "{err}");
+}
+
+#[test]
+fn reports_stay_small_for_a_line_of_many_bad_words() {
+    let dir = scratch("many-bad");
+    let words = "x ".repeat(20_000);
+    let scene = write(
+        &dir,
+        "m.txt",
+        &format!("{SMALL}primitive sphere\n R= 1\n O= {words}\nend\n"),
+    );
+    let o = render(&scene, &dir.join("m.png"), &[]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.len() < 20_000, "{} bytes of messages", err.len());
+    assert!(err.contains("… and 19991 more on line 17"), "{err}");
+}
+
+#[test]
+fn a_long_render_is_announced_with_what_drives_it() {
+    use std::io::BufRead;
+    let dir = scratch("slow");
+    let text = SMALL
+        .replace("image_H= 24\n", "image_H= 24\n    shade_quality= 1024\n")
+        .replace("light point", "light sphere\n    R= 1");
+    let scene = write(&dir, "slow.txt", &text);
+    let out = dir.join("s.png");
+    let mut child = spawn_render(&scene, &out, &["--width", "4000", "--spp", "64"]);
+    // The warning comes before the render starts; then stop it.
+    let mut first = String::new();
+    let err = std::io::BufReader::new(child.stderr.take().unwrap());
+    for line in err.lines() {
+        let line = line.unwrap();
+        if line.contains("this render") {
+            first = line;
+            break;
+        }
+    }
+    terminate(&child);
+    let _ = child.wait();
+    assert!(
+        first.contains("slow.txt") && first.contains("rays"),
+        "{first}"
+    );
+    assert!(
+        first.contains("`shade_quality=1024`") && first.contains("--spp 64"),
+        "{first}"
+    );
+}
+
+#[test]
+fn the_memory_check_respects_the_address_space_limit() {
+    let dir = scratch("rlimit");
+    let scene = write(&dir, "s.txt", SMALL);
+    let out = dir.join("big.png");
+    // 2 GB of address space; a 20000×20000 image needs far more.
+    let script = format!(
+        "ulimit -v 2000000 && exec '{}' render '{scene}' -o '{}' --width 20000 --height 20000 --spp 1",
+        env!("CARGO_BIN_EXE_glint"),
+        out.display()
+    );
+    let o = Command::new("sh").args(["-c", &script]).output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("needs about"), "{err}");
+    assert!(!out.exists());
 }

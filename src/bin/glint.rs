@@ -260,6 +260,7 @@ fn run_render(args: RenderArgs, interrupt: &AtomicBool) -> Result<(), Failure> {
     let renderer = Renderer::new(scene);
     let (w, h) = renderer.frame_size(&options).map_err(render_failure)?;
     check_memory(w, h)?;
+    warn_if_slow(&renderer, &options, &args.scene)?;
     check_interrupt(interrupt)?;
 
     let bar = if args.quiet || !std::io::stderr().is_terminal() {
@@ -319,17 +320,40 @@ fn render_failure(e: RenderError) -> Failure {
     }
 }
 
+/// Rays past which a render is said, before it starts, to take over a
+/// minute (at about 10 Mrays/s).
+const SLOW_RAYS: u64 = 600_000_000;
+
+/// Warns before a render that will take long, naming what drives its cost.
+fn warn_if_slow(renderer: &Renderer, options: &RenderOptions, scene: &Path) -> Result<(), Failure> {
+    let work = renderer.estimate(options).map_err(render_failure)?;
+    if work.rays > SLOW_RAYS {
+        say(&format!(
+            "warning: {}: this render traces about {:.1e} rays, {} at 10 Mrays/s; \
+             driven by {}\n",
+            scene.display(),
+            work.rays as f64,
+            duration(work.rays as f64 / 1e7),
+            work.drivers.join(", ")
+        ));
+    }
+    Ok(())
+}
+
+/// Seconds as people say them: "3 minutes", "2.5 hours".
+fn duration(seconds: f64) -> String {
+    match seconds {
+        s if s < 120.0 => format!("about {s:.0} s"),
+        s if s < 7200.0 => format!("about {:.0} minutes", s / 60.0),
+        s if s < 172_800.0 => format!("about {:.1} hours", s / 3600.0),
+        s => format!("about {:.0} days", s / 86400.0),
+    }
+}
+
 /// Refuses a size whose buffers would not fit in the memory available now.
 fn check_memory(w: u32, h: u32) -> Result<(), Failure> {
     let need = memory_needed(w, h);
-    let available = std::fs::read_to_string("/proc/meminfo").ok().and_then(|m| {
-        m.lines()
-            .find(|l| l.starts_with("MemAvailable:"))
-            .and_then(|l| l.split_whitespace().nth(1))
-            .and_then(|kb| kb.parse::<u64>().ok())
-            .map(|kb| kb * 1024)
-    });
-    match available {
+    match memory_available() {
         Some(avail) if need > avail => Err(fail(format!(
             "error: a {w}x{h} image needs about {:.1} GiB of memory, but only {:.1} GiB is available",
             need as f64 / (1u64 << 30) as f64,
@@ -337,6 +361,48 @@ fn check_memory(w: u32, h: u32) -> Result<(), Failure> {
         ))),
         _ => Ok(()),
     }
+}
+
+/// The memory this process may still take, where known: what the system
+/// has available, within the address-space limit (RLIMIT_AS, less what is
+/// mapped now) and the cgroup's `memory.max` (less its `memory.current`).
+fn memory_available() -> Option<u64> {
+    let read = |p: &str| std::fs::read_to_string(p).ok();
+    // The number after `key` on its line of `text`, times `unit`.
+    let field = |text: &str, key: &str, unit: u64| {
+        text.lines()
+            .find_map(|l| l.strip_prefix(key))
+            .and_then(|rest| rest.split_whitespace().next())
+            .and_then(|n| n.parse::<u64>().ok())
+            .map(|n| n.saturating_mul(unit))
+    };
+    let system = read("/proc/meminfo").and_then(|m| field(&m, "MemAvailable:", 1024));
+    let mapped = read("/proc/self/status").and_then(|s| field(&s, "VmSize:", 1024));
+    let address_space = read("/proc/self/limits")
+        .and_then(|l| field(&l, "Max address space", 1))
+        .map(|limit| limit.saturating_sub(mapped.unwrap_or(0)));
+    let group = read("/proc/self/cgroup")
+        .and_then(|c| {
+            c.lines()
+                .find_map(|l| l.strip_prefix("0::").map(str::to_string))
+        })
+        .unwrap_or_default();
+    let cgroup = [
+        format!("/sys/fs/cgroup{group}"),
+        "/sys/fs/cgroup".to_string(),
+    ]
+    .iter()
+    .find_map(|dir| {
+        let max = read(&format!("{dir}/memory.max"))?
+            .trim()
+            .parse::<u64>()
+            .ok()?;
+        let current = read(&format!("{dir}/memory.current"))
+            .and_then(|c| c.trim().parse::<u64>().ok())
+            .unwrap_or(0);
+        Some(max.saturating_sub(current))
+    });
+    [system, address_space, cgroup].into_iter().flatten().min()
 }
 
 fn run_probe(args: ProbeArgs) -> Result<(), Failure> {

@@ -196,7 +196,18 @@ impl<'p> Assets<'p> {
 
 /// Decodes an image file (BMP 24/32-bit, PNG, JPEG) into a texture.
 pub(crate) fn decode_texture(path: &Path) -> Result<Texture, String> {
-    let img = image::open(path).map_err(|e| e.to_string())?.to_rgb8();
+    texture_from(image::open(path).map_err(|e| e.to_string())?)
+}
+
+/// Decodes an image file's bytes (its format guessed from them) into a texture.
+#[cfg(feature = "fuzzing")]
+pub(crate) fn decode_texture_bytes(bytes: &[u8]) -> Result<Texture, String> {
+    texture_from(image::load_from_memory(bytes).map_err(|e| e.to_string())?)
+}
+
+/// A decoded image as a texture, rows from the bottom as the framework has them.
+fn texture_from(img: image::DynamicImage) -> Result<Texture, String> {
+    let img = img.to_rgb8();
     let (w, h) = (img.width() as usize, img.height() as usize);
     if w == 0 || h == 0 {
         return Err("the image is empty".to_string());
