@@ -5,7 +5,7 @@ cd "$(dirname "$0")"
 mkdir -p corpus/scene corpus/obj corpus/texture corpus/rays
 cp ../examples/*.txt ../bench/*.txt ../tests/data/*.txt corpus/scene/
 cp ../tests/data/*.obj corpus/obj/
-find .. -path ../fuzz -prune -o -name '*.obj' -print | head -20 | xargs -r -I{} cp {} corpus/obj/
+find .. \( -path ../fuzz -o -path ../target -o -path ../.git \) -prune -o -name '*.obj' -print | head -20 | xargs -r -I{} cp {} corpus/obj/
 cp ../tests/data/*.bmp corpus/texture/
 find ../examples -name '*.bmp' -o -name '*.png' | xargs -r -I{} cp {} corpus/texture/
 printf '0 0 0 0 0 1\n1 2 3 0 1 0 # c\n\n' > corpus/rays/basic

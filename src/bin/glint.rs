@@ -160,7 +160,6 @@ fn check_interrupt(flag: &AtomicBool) -> Result<(), Failure> {
 }
 
 fn main() -> ExitCode {
-    let interrupt = interrupt_flag();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) if e.use_stderr() => {
@@ -175,7 +174,8 @@ fn main() -> ExitCode {
         }
     };
     let result = match cli.command {
-        Command::Render(args) => run_render(args, &interrupt),
+        // Only a render watches for signals (a probe ends at the first).
+        Command::Render(args) => run_render(args, &interrupt_flag()),
         Command::Probe(args) => run_probe(args),
     };
     match result {
