@@ -34,16 +34,33 @@ mod render;
 mod sampling;
 pub mod scene;
 
+/// The private readers the fuzz targets (`fuzz/`) drive; not a public API.
+#[cfg(feature = "fuzzing")]
+#[doc(hidden)]
+pub mod fuzzing {
+    /// Parses OBJ text as a `primitive mesh` file would be (errors are messages).
+    pub fn obj(bytes: &[u8]) -> Result<usize, String> {
+        crate::format::parse_obj(bytes).map(|models| models.len())
+    }
+
+    /// Decodes image bytes as a texture would be (errors are messages).
+    pub fn texture(bytes: &[u8]) -> Result<(), String> {
+        crate::format::decode_texture_bytes(bytes).map(|_| ())
+    }
+}
+
 pub use geometry::Shape;
 pub use integrator::{Blocker, HitInfo, LightTerm, RayCounts, RayKind, RayNode};
 pub use output::{Format, Image, SaveError};
 pub use pass_files::{
     PrimitiveTable, pass_path, primitive_colour, save_exr_layers, save_pass_images,
 };
-pub use probe::{ProbeHit, RayError, parse_ray, to_json, to_text};
+pub use probe::{
+    MAX_RAY_ERRORS, ProbeHit, RayError, RaysError, parse_ray, read_rays, to_json, to_text,
+};
 pub use render::{
     Aov, Control, Explanation, Film, MAX_EXPLAINED_SPP, MAX_THREADS, Plane, Region, RenderError,
-    RenderOptions, RenderStats, Renderer, Sampling, Stage, memory_needed,
+    RenderOptions, RenderStats, Renderer, Sampling, Stage, WorkEstimate, memory_needed,
 };
 pub use scene::{Scene, SceneError};
 

@@ -3,6 +3,7 @@
 use glam::DVec3;
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// A rendered picture: linear RGB floats, rows from the top.
 #[derive(Clone, Debug, PartialEq)]
@@ -127,13 +128,23 @@ impl Image {
     /// temporary file in the same folder renamed into place: a failed write
     /// leaves no partial file and does not touch an existing one.
     pub fn save(&self, path: impl AsRef<Path>) -> Result<(), SaveError> {
+        self.save_unless(path, &AtomicBool::new(false))
+    }
+
+    /// [`Image::save`], giving up (the temporary file removed, `path`
+    /// untouched) if `cancel` is set before the file is renamed into place.
+    pub fn save_unless(
+        &self,
+        path: impl AsRef<Path>,
+        cancel: &AtomicBool,
+    ) -> Result<(), SaveError> {
         let path = path.as_ref();
         let format = Format::from_path(path)?;
         let bytes = self.encode(format).map_err(|message| SaveError::Write {
             path: path.to_path_buf(),
             message,
         })?;
-        write_atomically(path, &bytes).map_err(|e| SaveError::Write {
+        write_atomically(path, &bytes, cancel).map_err(|e| SaveError::Write {
             path: path.to_path_buf(),
             message: e.to_string(),
         })
@@ -172,27 +183,55 @@ impl Image {
 }
 
 /// Writes `bytes` to a hidden temporary file beside `path`, syncs it and
-/// renames it over `path`; the temporary file is removed on failure.
-pub fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+/// renames it over `path`; the temporary file is removed on failure, and
+/// when `cancel` is set before the rename (an `Interrupted` error).
+pub fn write_atomically(path: &Path, bytes: &[u8], cancel: &AtomicBool) -> std::io::Result<()> {
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
         _ => PathBuf::from("."),
     };
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = dir.join(format!(".{name}.glint-{}.tmp", std::process::id()));
+    let tmp = dir.join(temporary_name(path));
     let result = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
+        let mut f = std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&tmp)?;
         f.write_all(bytes)?;
         f.sync_all()?;
+        if cancel.load(Ordering::Relaxed) {
+            return Err(std::io::Error::from(std::io::ErrorKind::Interrupted));
+        }
         std::fs::rename(&tmp, path)
     })();
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
     result
+}
+
+/// `.glint-<16 hex digits>.tmp` (27 bytes, so any legal output name has a
+/// legal temporary name): a hash of the output path, the host name, the
+/// process, the time and a per-process counter, unique across the hosts
+/// that share a folder.
+fn temporary_name(path: &Path) -> String {
+    use std::hash::{BuildHasher, Hash, Hasher};
+    use std::sync::atomic::AtomicU64;
+    static COUNTER: AtomicU64 = AtomicU64::new(0);
+    // RandomState is seeded from the system's randomness.
+    let mut h = std::collections::hash_map::RandomState::new().build_hasher();
+    path.hash(&mut h);
+    std::fs::read_to_string("/proc/sys/kernel/hostname")
+        .or_else(|_| std::env::var("HOSTNAME"))
+        .unwrap_or_default()
+        .hash(&mut h);
+    std::process::id().hash(&mut h);
+    COUNTER.fetch_add(1, Ordering::Relaxed).hash(&mut h);
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_nanos())
+        .unwrap_or_default()
+        .hash(&mut h);
+    format!(".glint-{:016x}.tmp", h.finish())
 }
 
 #[cfg(test)]
@@ -232,6 +271,32 @@ mod tests {
             1,
             "no temporary file left"
         );
+        std::fs::remove_dir_all(&dir)?;
+        Ok(())
+    }
+
+    #[test]
+    fn long_names_save_and_a_cancelled_write_leaves_nothing()
+    -> Result<(), Box<dyn std::error::Error>> {
+        let dir = std::env::temp_dir().join(format!("glint-long-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir)?;
+        let img = Image::from_fn(2, 2, |_, _| DVec3::ONE);
+        // 254 bytes: legal, and so must be the temporary name beside it.
+        let p = dir.join(format!("{}.png", "a".repeat(250)));
+        img.save(&p)?;
+        assert!(p.is_file());
+        let q = dir.join("cancelled.png");
+        let cancel = AtomicBool::new(true);
+        assert!(img.save_unless(&q, &cancel).is_err());
+        assert!(!q.exists());
+        assert_eq!(
+            std::fs::read_dir(&dir)?.count(),
+            1,
+            "no temporary file left"
+        );
+        let (a, b) = (temporary_name(&p), temporary_name(&p));
+        assert!(a != b && a.len() < 32, "{a} {b}");
         std::fs::remove_dir_all(&dir)?;
         Ok(())
     }

@@ -8,6 +8,7 @@ use crate::output::{Format, Image, SaveError, write_atomically};
 use crate::render::{Film, Plane};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
 
 /// What the legend says of a primitive block: its kind and header line.
 pub type PrimitiveTable = BTreeMap<u32, (&'static str, Option<u32>)>;
@@ -40,8 +41,9 @@ fn write_err(path: &Path, message: impl ToString) -> SaveError {
 }
 
 /// Writes the film's picture and its planes as the layers of one OpenEXR
-/// file at `path` (`color`: R G B; then each plane under its name).
-pub fn save_exr_layers(film: &Film, path: &Path) -> Result<(), SaveError> {
+/// file at `path` (`color`: R G B; then each plane under its name); nothing
+/// is left when `cancel` is set before the file is in place.
+pub fn save_exr_layers(film: &Film, path: &Path, cancel: &AtomicBool) -> Result<(), SaveError> {
     use exr::prelude::*;
     let img = film.image();
     let size = (img.width() as usize, img.height() as usize);
@@ -84,7 +86,7 @@ pub fn save_exr_layers(film: &Film, path: &Path) -> Result<(), SaveError> {
         .write()
         .to_buffered(&mut out)
         .map_err(|e| write_err(path, e))?;
-    write_atomically(path, &out.into_inner()).map_err(|e| write_err(path, e))
+    write_atomically(path, &out.into_inner(), cancel).map_err(|e| write_err(path, e))
 }
 
 /// The range of the finite values of channel `c` among the pixels `hit`.
@@ -102,12 +104,14 @@ fn range(p: &Plane, c: usize, hit: &[bool]) -> (f32, f32) {
 
 /// Writes each plane of `film` beside `picture` as an 8-bit image of the
 /// picture's format (with its sidecar or legend); returns the files written.
-/// `table` names the primitives; `file` is the scene's file name.
+/// `table` names the primitives; `file` is the scene's file name; a file not
+/// yet in place when `cancel` is set is not written.
 pub fn save_pass_images(
     film: &Film,
     picture: &Path,
     table: &PrimitiveTable,
     file: Option<&str>,
+    cancel: &AtomicBool,
 ) -> Result<Vec<PathBuf>, SaveError> {
     let format = Format::from_path(picture)?;
     let ext = picture
@@ -191,11 +195,11 @@ pub fn save_pass_images(
         let bytes = Image::from_pixels(w, h, pixels)
             .encode(format)
             .map_err(|e| write_err(&path, e))?;
-        write_atomically(&path, &bytes).map_err(|e| write_err(&path, e))?;
+        write_atomically(&path, &bytes, cancel).map_err(|e| write_err(&path, e))?;
         written.push(path);
         if let Some(json) = sidecar {
             let path = pass_path(picture, &p.name, "json");
-            write_atomically(&path, format!("{json:#}\n").as_bytes())
+            write_atomically(&path, format!("{json:#}\n").as_bytes(), cancel)
                 .map_err(|e| write_err(&path, e))?;
             written.push(path);
         }

@@ -454,3 +454,298 @@ fn diagnostics_are_coloured_on_a_terminal_unless_no_color() {
     assert!(text.contains("s.txt:5:12"), "{text:?}");
     assert!(!shown.contains(&0x1b), "{text:?}");
 }
+
+#[test]
+fn a_scene_is_never_overwritten_by_its_own_output() {
+    let dir = scratch("self-overwrite");
+    let scene = write(&dir, "a.png", SMALL);
+    // -o naming the scene, spelled another way.
+    let other = dir.join(".").join("a.png");
+    let o = render(&scene, &other, &["--spp", "1"]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("is the scene file"), "{err}");
+    assert_eq!(std::fs::read_to_string(&scene).unwrap(), SMALL);
+    // The default output name (the scene's stem + .png) in the scene's folder.
+    let o = Command::new(env!("CARGO_BIN_EXE_glint"))
+        .args(["render", "a.png", "--spp", "1"])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(std::fs::read_to_string(&scene).unwrap(), SMALL);
+    // A hard link to the scene is the same file.
+    let link = dir.join("b.png");
+    std::fs::hard_link(&scene, &link).unwrap();
+    let o = render(&scene, &link, &["--spp", "1"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(std::fs::read_to_string(&scene).unwrap(), SMALL);
+    assert_eq!(
+        std::fs::read_dir(&dir).unwrap().count(),
+        2,
+        "nothing else written"
+    );
+}
+
+/// Starts `glint render SCENE -o OUT --quiet` and the `extra` arguments, stderr piped.
+fn spawn_render(scene: &str, out: &Path, extra: &[&str]) -> std::process::Child {
+    Command::new(env!("CARGO_BIN_EXE_glint"))
+        .args(["render", scene, "-o", out.to_str().unwrap(), "--quiet"])
+        .args(extra)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap()
+}
+
+/// Sends SIGTERM to a child.
+fn terminate(child: &std::process::Child) -> bool {
+    let pid = child.id().to_string();
+    let status = Command::new("kill").args(["-TERM", &pid]).status();
+    status.is_ok_and(|s| s.success())
+}
+
+#[test]
+fn a_signal_stops_the_render_and_leaves_no_file() {
+    let dir = scratch("signal");
+    let scene = write(&dir, "s.txt", SMALL);
+    let out = dir.join("s.png");
+    let child = spawn_render(&scene, &out, &["--width", "2000", "--spp", "4096"]);
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    let start = std::time::Instant::now();
+    assert!(terminate(&child));
+    let o = child.wait_with_output().unwrap();
+    assert!(start.elapsed().as_secs() < 10, "stopped promptly");
+    assert_eq!(o.status.code(), Some(130));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("interrupted"), "{err}");
+    assert_eq!(
+        std::fs::read_dir(&dir).unwrap().count(),
+        1,
+        "only the scene"
+    );
+}
+
+/// Runs glint with stdout or stderr (`which`: 1 or 2) going to /dev/full.
+fn glint_into_full(args: &[&str], which: u8) -> Output {
+    let full = || {
+        Stdio::from(
+            std::fs::OpenOptions::new()
+                .write(true)
+                .open("/dev/full")
+                .unwrap(),
+        )
+    };
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_glint"));
+    cmd.args(args).stdin(Stdio::null());
+    if which == 1 {
+        cmd.stdout(full()).stderr(Stdio::piped());
+    } else {
+        cmd.stdout(Stdio::piped()).stderr(full());
+    }
+    cmd.output().unwrap()
+}
+
+#[test]
+fn an_unwritable_stderr_keeps_the_exit_codes() {
+    let dir = scratch("stderr-full");
+    let bad = write(&dir, "bad.txt", "camera\n image_W= -3\nend\n");
+    let o = glint_into_full(&["render", &bad, "-o", "/nonexistent/x.png"], 2);
+    assert_eq!(o.status.code(), Some(2));
+    let warns = write(
+        &dir,
+        "warn.txt",
+        &SMALL.replace("diff= 1", "diff= 1\n    bogus= 3"),
+    );
+    let out = dir.join("w.png");
+    let o = glint_into_full(&["render", &warns, "-o", out.to_str().unwrap()], 2);
+    assert_eq!(o.status.code(), Some(0));
+    assert!(out.is_file());
+}
+
+#[test]
+fn probe_output_errors_are_reported_but_a_closed_pipe_is_quiet() {
+    let dir = scratch("probe-full");
+    let scene = write(&dir, "p.txt", SMALL);
+    let rays = write(&dir, "rays.txt", "0 0 0 0 1 0\n");
+    let o = glint_into_full(&["probe", &scene, "--rays", &rays, "--json"], 1);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("cannot write the probe answers"), "{err}");
+    // A reader that is gone: exit 0, nothing said.
+    let many = write(&dir, "many.txt", &"0 0 0 0 1 0\n".repeat(200_000));
+    let mut child = Command::new(env!("CARGO_BIN_EXE_glint"))
+        .args(["probe", &scene, "--rays", &many, "--json"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let o = child.wait_with_output().unwrap();
+    assert_eq!(o.status.code(), Some(0));
+    assert!(
+        o.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
+#[test]
+fn argument_and_path_messages_are_escaped() {
+    let dir = scratch("escape-args");
+    let scene = write(&dir, "s.txt", SMALL);
+    // An override that would turn the rest of the line around.
+    let o = glint(&["render", &scene, "--width", "1\u{202e}2"], None);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !err.contains('\u{202e}') && err.contains("\\u{202e}"),
+        "{err}"
+    );
+    // The summary line names the output.
+    let out = dir.join("x\u{1b}[2J\u{202e}.png");
+    let o = render(&scene, &out, &["--spp", "1"]);
+    assert!(o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!err.contains('\u{1b}') && err.contains("\\u{1b}"), "{err}");
+    assert!(!err.contains('\u{202e}'), "{err}");
+}
+
+#[test]
+fn endless_or_odd_files_are_refused_with_their_name() {
+    let dir = scratch("endless");
+    let out = dir.join("x.png");
+    for (scene, why) in [
+        ("/dev/zero", "is not a regular file"),
+        ("/tmp", "is a directory"),
+    ] {
+        let o = render(scene, &out, &[]);
+        assert_eq!(o.status.code(), Some(2));
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains(why) && err.contains(scene), "{err}");
+    }
+    // NUL bytes without a line break: the line limit, with the line.
+    let nul = dir.join("nul.txt");
+    std::fs::write(&nul, vec![0u8; (1 << 20) + 1]).unwrap();
+    let o = render(nul.to_str().unwrap(), &out, &[]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("nul.txt") && err.contains("line 1 is longer than 1 MiB"),
+        "{err}"
+    );
+    // Rays from an endless source.
+    let scene = write(&dir, "p.txt", SMALL);
+    let o = glint(&["probe", &scene, "--rays", "/dev/zero"], None);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("/dev/zero") && err.contains("line 1 is longer"),
+        "{err}"
+    );
+    assert!(!out.exists());
+}
+
+#[test]
+fn probe_rays_keep_the_scene_limits_and_json_stays_json() {
+    let dir = scratch("probe-limits");
+    let scene = write(
+        &dir,
+        "plane.txt",
+        "primitive plane\n O= 0 0 0\n N= 0 0 1\n color= 1 1 1\nend\n",
+    );
+    let rays = write(
+        &dir,
+        "r.txt",
+        "0 0 1 0 0 -1\n1e308 7 -1e308 1e100 1 1e100\n",
+    );
+    let o = glint(&["probe", &scene, "--rays", &rays, "--json"], None);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("r.txt:2:1:") && err.contains("1e100"), "{err}");
+    // Within the limits, a hit far away along a grazing ray: no inf or NaN.
+    let rays = write(
+        &dir,
+        "r.txt",
+        "0 0 1e100 1 0 -1e-300\n1e100 0 1e100 1 1 -1e-100\n",
+    );
+    let o = glint(&["probe", &scene, "--rays", &rays, "--json"], None);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = String::from_utf8_lossy(&o.stdout);
+    for line in out.lines() {
+        assert!(!line.contains("inf") && !line.contains("NaN"), "{line}");
+    }
+    // Bad UTF-8 in a rays file: its line and column.
+    let bad = dir.join("u.txt");
+    std::fs::write(&bad, b"0 0 1 0 0 -1\n0 0 \xff 0 0 1\n").unwrap();
+    let o = glint(&["probe", &scene, "--rays", bad.to_str().unwrap()], None);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("u.txt:2:5:"), "{err}");
+}
+
+#[test]
+fn reports_stay_small_for_a_line_of_many_bad_words() {
+    let dir = scratch("many-bad");
+    let words = "x ".repeat(20_000);
+    let scene = write(
+        &dir,
+        "m.txt",
+        &format!("{SMALL}primitive sphere\n R= 1\n O= {words}\nend\n"),
+    );
+    let o = render(&scene, &dir.join("m.png"), &[]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.len() < 20_000, "{} bytes of messages", err.len());
+    assert!(err.contains("… and 19991 more on line 17"), "{err}");
+}
+
+#[test]
+fn a_long_render_is_announced_with_what_drives_it() {
+    use std::io::BufRead;
+    let dir = scratch("slow");
+    let text = SMALL
+        .replace("image_H= 24\n", "image_H= 24\n    shade_quality= 1024\n")
+        .replace("light point", "light sphere\n    R= 1");
+    let scene = write(&dir, "slow.txt", &text);
+    let out = dir.join("s.png");
+    let mut child = spawn_render(&scene, &out, &["--width", "4000", "--spp", "64"]);
+    // The warning comes before the render starts; then stop it.
+    let mut first = String::new();
+    let err = std::io::BufReader::new(child.stderr.take().unwrap());
+    for line in err.lines() {
+        let line = line.unwrap();
+        if line.contains("this render") {
+            first = line;
+            break;
+        }
+    }
+    terminate(&child);
+    let _ = child.wait();
+    assert!(
+        first.contains("slow.txt") && first.contains("rays"),
+        "{first}"
+    );
+    assert!(
+        first.contains("`shade_quality=1024`") && first.contains("--spp 64"),
+        "{first}"
+    );
+}
+
+#[test]
+fn the_memory_check_respects_the_address_space_limit() {
+    let dir = scratch("rlimit");
+    let scene = write(&dir, "s.txt", SMALL);
+    let out = dir.join("big.png");
+    // 2 GB of address space; a 20000×20000 image needs far more.
+    let script = format!(
+        "ulimit -v 2000000 && exec '{}' render '{scene}' -o '{}' --width 20000 --height 20000 --spp 1",
+        env!("CARGO_BIN_EXE_glint"),
+        out.display()
+    );
+    let o = Command::new("sh").args(["-c", &script]).output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("needs about"), "{err}");
+    assert!(!out.exists());
+}

@@ -215,7 +215,7 @@ fn the_cli_writes_pass_files_beside_the_picture() {
 fn an_exr_holds_the_passes_as_layers() {
     let (_, _, f) = film(Some(1));
     let path = std::env::temp_dir().join(format!("glint-layers-{}.exr", std::process::id()));
-    glint::save_exr_layers(&f, &path).unwrap_or_else(|e| panic!("{e}"));
+    glint::save_exr_layers(&f, &path, &Default::default()).unwrap_or_else(|e| panic!("{e}"));
     let image =
         exr::prelude::read_all_flat_layers_from_file(&path).unwrap_or_else(|e| panic!("{e}"));
     let _ = std::fs::remove_file(&path);

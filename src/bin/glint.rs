@@ -2,13 +2,15 @@
 
 use clap::{Args, Parser, Subcommand};
 use glint::{
-    Aov, Control, Format, MAX_THREADS, Region, RenderError, RenderOptions, Renderer, Scene,
-    memory_needed, parse_ray, to_json, to_text,
+    Aov, Control, Format, MAX_THREADS, RaysError, Region, RenderError, RenderOptions, Renderer,
+    Scene, memory_needed, read_rays, to_json, to_text,
 };
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use std::io::{BufRead, IsTerminal, Read, Write};
+use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 /// glint: a fast, exact ray tracer for the teaching framework's scene files.
@@ -186,23 +188,84 @@ fn colour() -> bool {
     std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none_or(|v| v.is_empty())
 }
 
-/// A failure to report: the message, printed escaped (if not empty), and exit code 2.
-struct Failure(String);
+/// Writes text that is already safe for a terminal (rendered diagnostics) and
+/// a line break to stderr; a stderr that cannot be written is ignored, as
+/// there is nowhere left to report it, and the exit code still tells.
+fn say_raw(text: &str) {
+    let _ = writeln!(std::io::stderr().lock(), "{text}");
+}
+
+/// Writes a message to stderr escaped through [`shown`] (see [`say_raw`]).
+fn say(text: &str) {
+    say_raw(&shown(text));
+}
+
+/// Why the command stops early.
+enum Failure {
+    /// A message, printed escaped (if not empty), and exit code 2.
+    Error(String),
+    /// SIGINT or SIGTERM arrived: "interrupted", exit code 130.
+    Interrupted,
+}
+
+/// A [`Failure::Error`] with the message `message`.
+fn fail(message: impl Into<String>) -> Failure {
+    Failure::Error(message.into())
+}
+
+/// Set by SIGINT and SIGTERM: the render stops, nothing is written. A second
+/// signal ends the process at once.
+fn interrupt_flag() -> Arc<AtomicBool> {
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    let flag = Arc::new(AtomicBool::new(false));
+    for signal in [SIGINT, SIGTERM] {
+        // Registering fails only for signals that cannot be caught; then the
+        // default action (ending the process) stays, which is safe.
+        let _ = signal_hook::flag::register_conditional_shutdown(signal, 130, flag.clone());
+        let _ = signal_hook::flag::register(signal, flag.clone());
+    }
+    flag
+}
+
+/// `Err(Interrupted)` once a signal has arrived.
+fn check_interrupt(flag: &AtomicBool) -> Result<(), Failure> {
+    if flag.load(Ordering::Relaxed) {
+        return Err(Failure::Interrupted);
+    }
+    Ok(())
+}
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) if e.use_stderr() => {
+            // Argument errors quote the arguments: escape them like the rest.
+            let _ = write!(std::io::stderr().lock(), "{}", shown(&e.to_string()));
+            return ExitCode::from(2);
+        }
+        Err(e) => {
+            // --help and --version go to stdout.
+            let _ = e.print();
+            return ExitCode::SUCCESS;
+        }
+    };
     let result = match cli.command {
-        Command::Render(args) => run_render(args),
+        // Only a render watches for signals (a probe ends at the first).
+        Command::Render(args) => run_render(args, &interrupt_flag()),
         Command::Probe(args) => run_probe(args),
         Command::Explain(args) => run_explain(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(Failure(message)) => {
+        Err(Failure::Error(message)) => {
             if !message.is_empty() {
-                eprintln!("{}", shown(&message));
+                say(&message);
             }
             ExitCode::from(2)
+        }
+        Err(Failure::Interrupted) => {
+            say("interrupted");
+            ExitCode::from(130)
         }
     }
 }
@@ -212,27 +275,54 @@ fn main() -> ExitCode {
 fn load_scene(path: &Path) -> Result<Scene, Failure> {
     let colour = colour();
     let scene = Scene::from_file(path).map_err(|e| {
-        eprintln!("{}", e.render(colour));
-        Failure(String::new())
+        say_raw(&e.render(colour));
+        fail("")
     })?;
     for w in scene.warnings() {
-        eprintln!("{}\n", w.render(colour));
+        say_raw(&format!("{}\n", w.render(colour)));
     }
     Ok(scene)
 }
 
-fn run_render(args: RenderArgs) -> Result<(), Failure> {
+/// Refuses an output that is the scene file itself (the same file by device
+/// and inode, whatever the names: `a.png -o ./a.png`, a hard link).
+fn refuse_scene_as_output(scene: &Path, output: &Path) -> Result<(), Failure> {
+    let (Ok(s), Ok(o)) = (std::fs::metadata(scene), std::fs::metadata(output)) else {
+        return Ok(()); // no output file yet (or no scene, reported when read)
+    };
+    #[cfg(unix)]
+    let same = {
+        use std::os::unix::fs::MetadataExt;
+        (s.dev(), s.ino()) == (o.dev(), o.ino())
+    };
+    #[cfg(not(unix))]
+    let same = {
+        let _ = (s, o);
+        std::fs::canonicalize(scene).ok() == std::fs::canonicalize(output).ok()
+    };
+    if same {
+        return Err(fail(format!(
+            "error: the output {} is the scene file {}: refusing to write over it (choose another name with -o)",
+            output.display(),
+            scene.display()
+        )));
+    }
+    Ok(())
+}
+
+fn run_render(args: RenderArgs, interrupt: &AtomicBool) -> Result<(), Failure> {
     let start = Instant::now();
-    let scene = load_scene(&args.scene)?;
     let output = args.output.clone().unwrap_or_else(|| {
         let stem = args.scene.file_stem().unwrap_or_default();
         PathBuf::from(stem).with_extension("png")
     });
     // Fail on the output path before spending the render time.
-    Format::from_path(&output).map_err(|e| Failure(format!("error: {e}")))?;
+    refuse_scene_as_output(&args.scene, &output)?;
+    let scene = load_scene(&args.scene)?;
+    Format::from_path(&output).map_err(|e| fail(format!("error: {e}")))?;
     if args.verbose {
         for note in scene.notes() {
-            eprintln!("note: {}", shown(note));
+            say(&format!("note: {note}"));
         }
     }
     let options = RenderOptions {
@@ -243,15 +333,16 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
         height: args.height,
         region: args.region,
         aovs: match &args.aov {
-            Some(list) => {
-                Aov::parse_list(list).map_err(|e| Failure(format!("error: --aov: {e}")))?
-            }
+            Some(list) => Aov::parse_list(list).map_err(|e| fail(format!("error: --aov: {e}")))?,
             None => Vec::new(),
         },
     };
+    check_interrupt(interrupt)?;
     let renderer = Renderer::new(scene);
     let (w, h) = renderer.frame_size(&options).map_err(render_failure)?;
     check_memory(w, h)?;
+    warn_if_slow(&renderer, &options, &args.scene)?;
+    check_interrupt(interrupt)?;
 
     let bar = if args.quiet || !std::io::stderr().is_terminal() {
         ProgressBar::hidden()
@@ -270,27 +361,32 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
     };
     let control = Control {
         progress: Some(&progress),
-        cancel: None,
+        cancel: Some(interrupt),
     };
-    let (film, stats) = renderer
-        .render_with(&options, control)
-        .map_err(render_failure)?;
+    let rendered = renderer.render_with(&options, control);
     bar.finish_and_clear();
-    let cannot = |e: glint::SaveError| Failure(format!("error: cannot write the image: {e}"));
+    let (film, stats) = rendered.map_err(render_failure)?;
+    let cannot = |e: glint::SaveError| fail(format!("error: cannot write the image: {e}"));
     let exr = Format::from_path(&output).is_ok_and(|f| f == Format::Exr);
     if exr && !options.aovs.is_empty() {
-        glint::save_exr_layers(&film, &output).map_err(cannot)?;
+        let saved = glint::save_exr_layers(&film, &output, interrupt);
+        check_interrupt(interrupt)?;
+        saved.map_err(cannot)?;
     } else {
-        film.image().save(&output).map_err(cannot)?;
+        let saved = film.image().save_unless(&output, interrupt);
+        check_interrupt(interrupt)?;
+        saved.map_err(cannot)?;
         if !options.aovs.is_empty() {
             let table = renderer.primitive_table();
             let file = renderer.scene_file();
-            glint::save_pass_images(&film, &output, &table, file.as_deref()).map_err(cannot)?;
+            let saved = glint::save_pass_images(&film, &output, &table, file.as_deref(), interrupt);
+            check_interrupt(interrupt)?;
+            saved.map_err(cannot)?;
         }
     }
     if !args.quiet {
         let r = stats.rays;
-        eprintln!(
+        say(&format!(
             "{}: {}x{}, {:.3} s wall ({:.3} s render, {:.3} s BVH), {:.1} M rays, {:.1} Mrays/s",
             output.display(),
             w,
@@ -300,12 +396,12 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
             stats.build.as_secs_f64(),
             r.total() as f64 / 1e6,
             stats.mrays_per_sec()
-        );
+        ));
         if args.verbose {
-            eprintln!(
+            say(&format!(
                 "rays: camera {}, reflected {}, refracted {}, shadow {}; {} pixels anti-aliased",
                 r.camera, r.reflected, r.refracted, r.shadow, stats.refined_pixels
-            );
+            ));
         }
     }
     Ok(())
@@ -314,23 +410,47 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
 /// A render that could not start: a size option out of range names its option.
 fn render_failure(e: RenderError) -> Failure {
     match e {
-        RenderError::Side { .. } | RenderError::Samples { .. } => Failure(format!("error: --{e}")),
-        _ => Failure(format!("error: {e}")),
+        RenderError::Cancelled => Failure::Interrupted,
+        RenderError::Side { .. } | RenderError::Samples { .. } => fail(format!("error: --{e}")),
+        _ => fail(format!("error: {e}")),
+    }
+}
+
+/// Rays past which a render is said, before it starts, to take over a
+/// minute (at about 10 Mrays/s).
+const SLOW_RAYS: u64 = 600_000_000;
+
+/// Warns before a render that will take long, naming what drives its cost.
+fn warn_if_slow(renderer: &Renderer, options: &RenderOptions, scene: &Path) -> Result<(), Failure> {
+    let work = renderer.estimate(options).map_err(render_failure)?;
+    if work.rays > SLOW_RAYS {
+        say(&format!(
+            "warning: {}: this render traces about {:.1e} rays, {} at 10 Mrays/s; \
+             driven by {}\n",
+            scene.display(),
+            work.rays as f64,
+            duration(work.rays as f64 / 1e7),
+            work.drivers.join(", ")
+        ));
+    }
+    Ok(())
+}
+
+/// Seconds as people say them: "3 minutes", "2.5 hours".
+fn duration(seconds: f64) -> String {
+    match seconds {
+        s if s < 120.0 => format!("about {s:.0} s"),
+        s if s < 7200.0 => format!("about {:.0} minutes", s / 60.0),
+        s if s < 172_800.0 => format!("about {:.1} hours", s / 3600.0),
+        s => format!("about {:.0} days", s / 86400.0),
     }
 }
 
 /// Refuses a size whose buffers would not fit in the memory available now.
 fn check_memory(w: u32, h: u32) -> Result<(), Failure> {
     let need = memory_needed(w, h);
-    let available = std::fs::read_to_string("/proc/meminfo").ok().and_then(|m| {
-        m.lines()
-            .find(|l| l.starts_with("MemAvailable:"))
-            .and_then(|l| l.split_whitespace().nth(1))
-            .and_then(|kb| kb.parse::<u64>().ok())
-            .map(|kb| kb * 1024)
-    });
-    match available {
-        Some(avail) if need > avail => Err(Failure(format!(
+    match memory_available() {
+        Some(avail) if need > avail => Err(fail(format!(
             "error: a {w}x{h} image needs about {:.1} GiB of memory, but only {:.1} GiB is available",
             need as f64 / (1u64 << 30) as f64,
             avail as f64 / (1u64 << 30) as f64
@@ -364,39 +484,74 @@ fn run_explain(args: ExplainArgs) -> Result<(), Failure> {
     Ok(())
 }
 
+/// The memory this process may still take, where known: what the system
+/// has available, within the address-space limit (RLIMIT_AS, less what is
+/// mapped now) and the cgroup's `memory.max` (less its `memory.current`).
+fn memory_available() -> Option<u64> {
+    let read = |p: &str| std::fs::read_to_string(p).ok();
+    // The number after `key` on its line of `text`, times `unit`.
+    let field = |text: &str, key: &str, unit: u64| {
+        text.lines()
+            .find_map(|l| l.strip_prefix(key))
+            .and_then(|rest| rest.split_whitespace().next())
+            .and_then(|n| n.parse::<u64>().ok())
+            .map(|n| n.saturating_mul(unit))
+    };
+    let system = read("/proc/meminfo").and_then(|m| field(&m, "MemAvailable:", 1024));
+    let mapped = read("/proc/self/status").and_then(|s| field(&s, "VmSize:", 1024));
+    let address_space = read("/proc/self/limits")
+        .and_then(|l| field(&l, "Max address space", 1))
+        .map(|limit| limit.saturating_sub(mapped.unwrap_or(0)));
+    let group = read("/proc/self/cgroup")
+        .and_then(|c| {
+            c.lines()
+                .find_map(|l| l.strip_prefix("0::").map(str::to_string))
+        })
+        .unwrap_or_default();
+    let cgroup = [
+        format!("/sys/fs/cgroup{group}"),
+        "/sys/fs/cgroup".to_string(),
+    ]
+    .iter()
+    .find_map(|dir| {
+        let max = read(&format!("{dir}/memory.max"))?
+            .trim()
+            .parse::<u64>()
+            .ok()?;
+        let current = read(&format!("{dir}/memory.current"))
+            .and_then(|c| c.trim().parse::<u64>().ok())
+            .unwrap_or(0);
+        Some(max.saturating_sub(current))
+    });
+    [system, address_space, cgroup].into_iter().flatten().min()
+}
+
 fn run_probe(args: ProbeArgs) -> Result<(), Failure> {
     let scene = load_scene(&args.scene)?;
     let name = args.rays.display().to_string();
-    let mut text = String::new();
+    let cannot_read =
+        |e: &dyn std::fmt::Display| fail(format!("error: cannot read the rays from {name}: {e}"));
+    // Every line is checked before anything is printed.
     let read = if name == "-" {
-        std::io::stdin().lock().read_to_string(&mut text)
+        read_rays(std::io::stdin().lock())
     } else {
-        std::fs::File::open(&args.rays).and_then(|mut f| f.read_to_string(&mut text))
+        let file = std::fs::File::open(&args.rays).map_err(|e| cannot_read(&e))?;
+        read_rays(file)
     };
-    read.map_err(|e| Failure(format!("error: cannot read the rays from {name}: {e}")))?;
-
-    // Validate every line before printing anything.
-    let mut rays = Vec::new();
-    let mut errors = Vec::new();
-    for (n, line) in text.as_bytes().lines().enumerate() {
-        let line = line.unwrap_or_default();
-        let body = line.split('#').next().unwrap_or("");
-        if body.trim().is_empty() {
-            continue;
+    let rays = match read {
+        Ok(rays) => rays,
+        Err(RaysError::Read(e)) => return Err(cannot_read(&e)),
+        Err(RaysError::Lines(errors, more)) => {
+            let mut lines: Vec<String> = errors
+                .iter()
+                .map(|(n, e)| format!("error: {name}:{n}:{}: {}", e.column, e.message))
+                .collect();
+            if more > 0 {
+                lines.push(format!("… and {more} more bad lines"));
+            }
+            return Err(fail(lines.join("\n")));
         }
-        match parse_ray(body) {
-            Ok(r) => rays.push(r),
-            Err(e) => errors.push(format!(
-                "error: {name}:{}:{}: {}",
-                n + 1,
-                e.column,
-                e.message
-            )),
-        }
-    }
-    if !errors.is_empty() {
-        return Err(Failure(errors.join("\n")));
-    }
+    };
 
     let prober = Renderer::new(scene);
     let lines: Vec<String> = {
@@ -419,11 +574,14 @@ fn run_probe(args: ProbeArgs) -> Result<(), Failure> {
     };
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
-    for chunk in lines {
-        if out.write_all(chunk.as_bytes()).is_err() {
-            return Ok(()); // the reader went away (e.g. `| head`)
-        }
+    let written = lines
+        .iter()
+        .try_for_each(|chunk| out.write_all(chunk.as_bytes()))
+        .and_then(|()| out.flush());
+    match written {
+        // The reader went away (e.g. `| head`): nothing more to say.
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        Err(e) => Err(fail(format!("error: cannot write the probe answers: {e}"))),
+        Ok(()) => Ok(()),
     }
-    let _ = out.flush();
-    Ok(())
 }

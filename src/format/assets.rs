@@ -2,6 +2,7 @@
 //! file first, then in the working directory, and loaded once each.
 
 use super::diags::{Diags, Site};
+use super::limits::not_regular;
 use super::obj::load_obj;
 use crate::geometry::Triangle;
 use crate::scene::Texture;
@@ -17,6 +18,14 @@ pub(crate) struct Assets<'p> {
     by_path: HashMap<PathBuf, u32>,
     /// Where each file was found, for verbose output.
     pub notes: Vec<String>,
+}
+
+/// Why a file named in a scene cannot be used.
+enum Unusable {
+    /// Nothing there: the places tried.
+    NotFound(Vec<PathBuf>),
+    /// Something that is not a regular file (a directory, a FIFO): where, and what.
+    NotRegular(PathBuf, &'static str),
 }
 
 /// How a `primitive mesh` block places its OBJ file's vertices.
@@ -42,8 +51,8 @@ impl<'p> Assets<'p> {
     /// Finds a file named in the scene: next to the scene file first, then
     /// in the working directory (and, for names written with Windows
     /// separators, the same with `/`). Returns the path and where it was
-    /// found, or the places tried.
-    fn resolve(&self, name: &str) -> Result<(PathBuf, &'static str), Vec<PathBuf>> {
+    /// found, or why not (the places tried, or a path that is not a file).
+    fn resolve(&self, name: &str) -> Result<(PathBuf, &'static str), Unusable> {
         let mut tried: Vec<PathBuf> = Vec::new();
         let slashed = name.replace('\\', "/");
         let names: &[&str] = if slashed != name {
@@ -68,17 +77,27 @@ impl<'p> Assets<'p> {
                 if found.is_empty() || tried.contains(&path) {
                     continue;
                 }
-                if path.is_file() {
-                    return Ok((path, found));
+                if let Ok(meta) = std::fs::metadata(&path) {
+                    return match not_regular(&meta) {
+                        None => Ok((path, found)),
+                        Some(why) => Err(Unusable::NotRegular(path, why)),
+                    };
                 }
                 tried.push(path);
             }
         }
-        Err(tried)
+        Err(Unusable::NotFound(tried))
     }
 
-    /// Reports a file that was not found.
-    fn not_found(what: &str, name: &str, tried: &[PathBuf], site: Site, diags: &mut Diags) {
+    /// Reports a file that was not found or is not a regular file.
+    fn unusable(what: &str, name: &str, why: &Unusable, site: Site, diags: &mut Diags) {
+        let tried = match why {
+            Unusable::NotRegular(path, why) => {
+                let message = format!("{what} file `{name}` ({}) {why}", path.display());
+                return diags.error(site, message, None);
+            }
+            Unusable::NotFound(tried) => tried,
+        };
         let tried = tried
             .iter()
             .map(|p| format!("`{}`", p.display()))
@@ -104,8 +123,8 @@ impl<'p> Assets<'p> {
     ) -> Option<u32> {
         let (path, found) = match self.resolve(name) {
             Ok(p) => p,
-            Err(tried) => {
-                Self::not_found("texture", name, &tried, site, diags);
+            Err(why) => {
+                Self::unusable("texture", name, &why, site, diags);
                 return None;
             }
         };
@@ -145,8 +164,8 @@ impl<'p> Assets<'p> {
     ) -> Option<Vec<Triangle>> {
         let (path, found) = match self.resolve(name) {
             Ok(p) => p,
-            Err(tried) => {
-                Self::not_found("mesh", name, &tried, site, diags);
+            Err(why) => {
+                Self::unusable("mesh", name, &why, site, diags);
                 return None;
             }
         };
@@ -177,7 +196,18 @@ impl<'p> Assets<'p> {
 
 /// Decodes an image file (BMP 24/32-bit, PNG, JPEG) into a texture.
 pub(crate) fn decode_texture(path: &Path) -> Result<Texture, String> {
-    let img = image::open(path).map_err(|e| e.to_string())?.to_rgb8();
+    texture_from(image::open(path).map_err(|e| e.to_string())?)
+}
+
+/// Decodes an image file's bytes (its format guessed from them) into a texture.
+#[cfg(feature = "fuzzing")]
+pub(crate) fn decode_texture_bytes(bytes: &[u8]) -> Result<Texture, String> {
+    texture_from(image::load_from_memory(bytes).map_err(|e| e.to_string())?)
+}
+
+/// A decoded image as a texture, rows from the bottom as the framework has them.
+fn texture_from(img: image::DynamicImage) -> Result<Texture, String> {
+    let img = img.to_rgb8();
     let (w, h) = (img.width() as usize, img.height() as usize);
     if w == 0 || h == 0 {
         return Err("the image is empty".to_string());

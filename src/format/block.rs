@@ -103,8 +103,11 @@ impl Block<'_> {
         if x <= max {
             Some((x, site))
         } else {
-            self.diags
-                .error(site, format!("`{key}=` is too large, found {x}"), None);
+            self.diags.error(
+                site,
+                format!("`{key}=` is too large (at most {max}), found {x}"),
+                None,
+            );
             None
         }
     }

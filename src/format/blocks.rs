@@ -19,6 +19,10 @@ use glam::DVec3;
 /// framework's default) a warning says the render will be slow.
 const SLOW_QUALITY: u32 = 64;
 
+/// The largest `shade_quality=` or `drefl_quality=` (16384 rays per
+/// shading point or glossy reflection); beyond, a render would not finish.
+pub(crate) const MAX_QUALITY: u32 = 1024;
+
 /// `background`: `color=`, or a gradient `top=` / `bottom=`, over `bg`
 /// (a second block's keys override the first's).
 pub(crate) fn background(mut bg: Background, b: &mut Block<'_>) -> Background {
@@ -84,9 +88,9 @@ pub(crate) fn camera(mut cam: Camera, b: &mut Block<'_>) -> Camera {
             }
         }
     }
-    // 16 × quality rays must fit in a u32; above SLOW_QUALITY a warning
-    // says what they cost (the rays, what they slow).
-    let max_quality = f64::from(u32::MAX / 16);
+    // At most MAX_QUALITY (an error at the line); above SLOW_QUALITY a
+    // warning says what they cost (the rays, what they slow).
+    let max_quality = f64::from(MAX_QUALITY);
     for (key, target, rays, what) in [
         (
             "shade_quality",

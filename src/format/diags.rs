@@ -43,20 +43,36 @@ impl Site {
     }
 }
 
+/// How many diagnostics of one line are shown; the rest are counted.
+pub(crate) const PER_LINE: usize = 10;
+/// How many diagnostics of one file are shown; the rest are counted.
+pub(crate) const PER_FILE: usize = 200;
+/// How many diagnostics are kept at most while reading (the first
+/// [`PER_FILE`] in file order are among them unless the file is read
+/// far out of order); beyond, they are only counted.
+const STORED: usize = 100_000;
+
 /// How many diagnostics and errors [`Diags`] held at some point.
 #[derive(Clone, Copy, Default)]
 pub(crate) struct Checkpoint {
     diags: usize,
     errors: usize,
+    dropped: usize,
+    dropped_error: bool,
 }
 
 /// Collects diagnostics, turning [`Site`]s into file/line/column/excerpt.
 /// The excerpts (`source_line`) are filled from each piece of text once it
 /// has been read, so reading keeps nothing per line of the file.
+/// Reports are bounded: at most [`PER_LINE`] a line and [`PER_FILE`] a
+/// file are shown, then how many more.
 pub(crate) struct Diags {
     file: String,
     out: Vec<Diagnostic>,
     errors: usize,
+    /// Diagnostics past [`STORED`], counted only, and whether one was an error.
+    dropped: usize,
+    dropped_error: bool,
 }
 
 impl Diags {
@@ -65,6 +81,8 @@ impl Diags {
             file,
             out: Vec::new(),
             errors: 0,
+            dropped: 0,
+            dropped_error: false,
         }
     }
 
@@ -77,6 +95,11 @@ impl Diags {
         let source_line = String::new();
         if severity == Severity::Error {
             self.errors += 1;
+        }
+        if self.out.len() >= STORED {
+            self.dropped += 1;
+            self.dropped_error |= severity == Severity::Error;
+            return;
         }
         self.out.push(Diagnostic {
             severity,
@@ -110,6 +133,8 @@ impl Diags {
         Checkpoint {
             diags: self.out.len(),
             errors: self.errors,
+            dropped: self.dropped,
+            dropped_error: self.dropped_error,
         }
     }
 
@@ -117,6 +142,8 @@ impl Diags {
     pub fn rollback(&mut self, cp: Checkpoint) {
         self.out.truncate(cp.diags);
         self.errors = cp.errors;
+        self.dropped = cp.dropped;
+        self.dropped_error = cp.dropped_error;
     }
 
     /// Fills the excerpts of the diagnostics from the `from`-th on, all about
@@ -128,17 +155,25 @@ impl Diags {
         if fresh.is_empty() {
             return;
         }
-        let mut order: Vec<(usize, usize)> =
-            fresh.iter().enumerate().map(|(k, d)| (d.line, k)).collect();
+        // Only the diagnostics shown get their line (see `into_sorted`):
+        // a long line with many errors is not copied for each.
+        let mut order: Vec<(usize, usize, usize)> = fresh
+            .iter()
+            .enumerate()
+            .map(|(k, d)| (d.line, d.column, k))
+            .collect();
         order.sort_unstable();
         let mut next = order.iter().peekable();
         for (k, line) in lexer::split_lines(text).enumerate() {
             let number = first_line + k + 1;
-            while let Some(&(at, d)) = next.next_if(|(at, _)| *at <= number) {
+            let mut on_line = 0;
+            while let Some(&(at, _, d)) = next.next_if(|(at, _, _)| *at <= number) {
                 if at == number
+                    && on_line < PER_LINE
                     && let Some(d) = fresh.get_mut(d)
                 {
                     d.source_line = line.to_string();
+                    on_line += 1;
                 }
             }
             if next.peek().is_none() {
@@ -147,11 +182,108 @@ impl Diags {
         }
     }
 
-    /// The diagnostics in file order.
+    /// The diagnostics in file order, at most [`PER_LINE`] a line (then one
+    /// "… and N more on line L") and [`PER_FILE`] in all (then "… and N more").
     pub fn into_sorted(self) -> Vec<Diagnostic> {
         let mut all = self.out;
         // Stable: diagnostics found at the same place keep the order they were found in.
         all.sort_by_key(|d| (d.line, d.column));
-        all
+        let file = self.file;
+        // A note about the file as a whole (line 0), as severe as the worst it stands for.
+        let summary = |message: String, error: bool| Diagnostic {
+            severity: if error {
+                Severity::Error
+            } else {
+                Severity::Warning
+            },
+            message,
+            file: file.clone(),
+            line: 0,
+            column: 0,
+            len: 0,
+            source_line: String::new(),
+            help: None,
+        };
+        let mut kept = Vec::new();
+        let (mut more, mut more_errors) = (self.dropped, self.dropped_error);
+        let mut rest = all.into_iter().peekable();
+        while let Some(first) = rest.next() {
+            let line = first.line;
+            let mut group = vec![first];
+            while let Some(d) = rest.next_if(|d| d.line == line) {
+                group.push(d);
+            }
+            let hidden = group.split_off(group.len().min(PER_LINE));
+            let hidden_error = hidden.iter().any(|d| d.severity == Severity::Error);
+            for d in group {
+                if kept.len() < PER_FILE {
+                    kept.push(d);
+                } else {
+                    more += 1;
+                    more_errors |= d.severity == Severity::Error;
+                }
+            }
+            if hidden.is_empty() {
+                continue;
+            }
+            if kept.len() < PER_FILE {
+                let m = format!("… and {} more on line {line}", hidden.len());
+                kept.push(summary(m, hidden_error));
+            } else {
+                more += hidden.len();
+                more_errors |= hidden_error;
+            }
+        }
+        if more > 0 {
+            kept.push(summary(format!("… and {more} more"), more_errors));
+        }
+        kept
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reports_are_capped_per_line_and_per_file() {
+        let mut d = Diags::new("s.txt".to_string());
+        let line = "x ".repeat(20_000);
+        for k in 0..20_000 {
+            let site = Site {
+                line: 1,
+                col: 2 * k + 1,
+                len: 1,
+            };
+            d.error(site, "bad word", None);
+        }
+        d.fill_source_lines(0, &format!("camera\n{line}\n"), 0);
+        let all = d.into_sorted();
+        assert_eq!(all.len(), PER_LINE + 1);
+        assert_eq!(all[PER_LINE].message, "… and 19990 more on line 2");
+        assert_eq!(all[PER_LINE].severity, Severity::Error);
+        let filled = all.iter().filter(|d| !d.source_line.is_empty()).count();
+        assert_eq!(filled, PER_LINE);
+
+        let mut d = Diags::new("s.txt".to_string());
+        for k in 0..(STORED + 50) {
+            d.warn(
+                Site {
+                    line: k,
+                    col: 1,
+                    len: 1,
+                },
+                "odd",
+                None,
+            );
+        }
+        let all = d.into_sorted();
+        assert_eq!(all.len(), PER_FILE + 1);
+        let last = all.last().map(|d| (d.message.clone(), d.severity));
+        let more = STORED + 50 - PER_FILE;
+        assert_eq!(
+            last,
+            Some((format!("… and {more} more"), Severity::Warning))
+        );
     }
 }

@@ -13,6 +13,7 @@ mod blocks;
 mod builder;
 mod diags;
 mod lexer;
+mod limits;
 mod obj;
 mod reader;
 mod schema;
@@ -20,9 +21,15 @@ mod shapes;
 mod suggest;
 mod values;
 
+#[cfg(feature = "fuzzing")]
+pub(crate) use assets::decode_texture_bytes;
+pub(crate) use limits::{Limits, read_bounded};
 #[cfg(test)]
 pub(crate) use obj::load_obj;
+#[cfg(feature = "fuzzing")]
+pub(crate) use obj::parse_obj;
 pub(crate) use reader::{parse_file, parse_str};
+pub(crate) use values::{NumberError, parse_number};
 
 use crate::scene::{Scene, SceneError};
 use std::path::Path;

@@ -1,9 +1,8 @@
 //! OBJ meshes: their triangles, placed as a `primitive mesh` block says.
 
+use super::limits::{Limits, open_regular, read_bounded};
 use crate::geometry::Triangle;
 use glam::{DMat3, DVec3};
-use std::fs::File;
-use std::io::BufReader;
 use std::path::Path;
 
 /// Loads every model of an OBJ file as triangles (polygons are triangulated),
@@ -16,7 +15,7 @@ use std::path::Path;
 /// with them is flipped so its geometric normal points the same way; a
 /// mirroring scale keeps the winding's outward side. Zero-area triangles are
 /// skipped. Errors (unreadable file, bad OBJ, no triangle) are returned as
-/// a message naming the file.
+/// a message naming the file (and the line, for bad OBJ).
 pub(crate) fn load_obj(
     path: &Path,
     origin: DVec3,
@@ -24,18 +23,10 @@ pub(crate) fn load_obj(
     rotation: DVec3,
 ) -> Result<Vec<Triangle>, String> {
     let name = path.display();
-    let file = File::open(path).map_err(|e| format!("cannot open mesh file {name}: {e}"))?;
-    let options = tobj::LoadOptions {
-        triangulate: true,
-        single_index: false,
-        ignore_points: true,
-        ignore_lines: true,
-    };
-    // Materials are not used: never read the MTL files an OBJ names.
-    let (models, _) = tobj::load_obj_buf(&mut BufReader::new(file), &options, |_| {
-        Err(tobj::LoadError::GenericFailure)
-    })
-    .map_err(|e| format!("cannot read mesh file {name}: {e}"))?;
+    let file = open_regular(path).map_err(|e| format!("cannot open mesh file {name}: {e}"))?;
+    let bytes = read_bounded(file, Limits::DEFAULT)
+        .map_err(|e| format!("cannot read mesh file {name}: {e}"))?;
+    let models = parse_obj(&bytes).map_err(|e| format!("mesh file {name}: {e}"))?;
 
     let rot = DMat3::from_rotation_z(rotation.z)
         * DMat3::from_rotation_y(rotation.y)
@@ -110,4 +101,52 @@ pub(crate) fn load_obj(
         return Err(format!("mesh file {name} holds no triangle"));
     }
     Ok(triangles)
+}
+
+/// The models of OBJ text, or tobj's error with the line it is about.
+pub(crate) fn parse_obj(bytes: &[u8]) -> Result<Vec<tobj::Model>, String> {
+    let options = tobj::LoadOptions {
+        triangulate: true,
+        single_index: false,
+        ignore_points: true,
+        ignore_lines: true,
+    };
+    // Materials are not used: never read the MTL files an OBJ names.
+    let parse = |mut text: &[u8]| {
+        tobj::load_obj_buf(&mut text, &options, |_| {
+            Err(tobj::LoadError::GenericFailure)
+        })
+    };
+    match parse(bytes) {
+        Ok((models, _)) => Ok(models),
+        Err(e) => {
+            let line = first_failing_line(bytes, |prefix| parse(prefix).is_err());
+            Err(format!("line {line}: {e}"))
+        }
+    }
+}
+
+/// The 1-based line where `fails` starts to fail on the first lines of
+/// `bytes` (which fails as a whole): tobj stops at the first bad line, so
+/// a prefix fails exactly when it holds that line; found by bisection.
+fn first_failing_line(bytes: &[u8], fails: impl Fn(&[u8]) -> bool) -> usize {
+    let ends: Vec<usize> = bytes
+        .iter()
+        .enumerate()
+        .filter(|(_, b)| **b == b'\n')
+        .map(|(k, _)| k + 1)
+        .chain((bytes.last() != Some(&b'\n')).then_some(bytes.len()))
+        .collect();
+    // Lines 1..=lo pass, lines 1..=hi fail.
+    let (mut lo, mut hi) = (0, ends.len());
+    while hi - lo > 1 {
+        let mid = lo + (hi - lo) / 2;
+        let end = ends.get(mid - 1).copied().unwrap_or(bytes.len());
+        if fails(bytes.get(..end).unwrap_or_default()) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    hi.max(1)
 }

@@ -6,6 +6,7 @@
 use super::builder::Builder;
 use super::diags::{Checkpoint, Diags, Site};
 use super::lexer::{self, Line, Word};
+use super::limits::{Limits, LineGuard, ReadError, open_regular};
 use super::schema::{self, BlockKind, LIGHTS, PRIMITIVES};
 use super::suggest::closest;
 use super::values::Entry;
@@ -20,13 +21,14 @@ const HEADERS: [&str; 4] = ["background", "camera", "light", "primitive"];
 const CHUNK: usize = 1 << 20;
 
 pub(crate) fn parse_file(path: &Path) -> Result<Scene, SceneError> {
-    let file = std::fs::File::open(path).map_err(|e| read_error(path, &e))?;
+    let file = open_regular(path).map_err(|e| read_error(path, &e))?;
     let dir = path.parent().unwrap_or(Path::new("."));
-    parse_chunked(file, path, dir, CHUNK)
+    parse_chunked(file, path, dir, CHUNK, Limits::DEFAULT)
 }
 
-/// The error for a scene file that cannot be read (line 0: the file as a whole).
-fn read_error(path: &Path, e: &std::io::Error) -> SceneError {
+/// The error for a scene file that cannot be read (line 0: the file as a
+/// whole; a line too long says which in the message).
+fn read_error(path: &Path, e: &dyn std::fmt::Display) -> SceneError {
     SceneError {
         diagnostics: vec![Diagnostic {
             severity: Severity::Error,
@@ -42,14 +44,16 @@ fn read_error(path: &Path, e: &std::io::Error) -> SceneError {
 }
 
 /// Parses a scene file from `input`, reading about `chunk` bytes at a time
-/// and keeping only the text not yet parsed.
+/// and keeping only the text not yet parsed, within `limits`.
 fn parse_chunked(
     mut input: impl Read,
     path: &Path,
     base: &Path,
     chunk: usize,
+    limits: Limits,
 ) -> Result<Scene, SceneError> {
     let chunk = chunk.max(1);
+    let mut guard = LineGuard::new(limits);
     let mut reader = Reader::new(Some(path), base);
     // Bytes read but not yet parsed: after the last `\n` read so far.
     let mut raw: Vec<u8> = Vec::new();
@@ -65,6 +69,9 @@ fn parse_chunked(
         let got = (&mut input)
             .take(want as u64)
             .read_to_end(&mut raw)
+            .map_err(|e| read_error(path, &ReadError::Io(e)))?;
+        guard
+            .check(raw.get(old..).unwrap_or_default())
             .map_err(|e| read_error(path, &e))?;
         let last = got == 0;
         // Cut after a `\n`: no `\r\n`, no UTF-8 character is split, and
@@ -555,7 +562,7 @@ mod tests {
         let base = Path::new("tests/data");
         let whole = parse_str(&String::from_utf8_lossy(bytes), Some(mem_path()), base);
         for n in SIZES {
-            let chunked = parse_chunked(bytes, mem_path(), base, n);
+            let chunked = parse_chunked(bytes, mem_path(), base, n, Limits::DEFAULT);
             let d = difference(&whole, &chunked);
             assert_eq!(d, None, "{name}, read in chunks of {n} bytes");
         }
@@ -951,8 +958,39 @@ primitive sphere
                 fail_at: None,
                 interrupt: false,
             };
-            let chunked = parse_chunked(input, mem_path(), base, 16);
+            let chunked = parse_chunked(input, mem_path(), base, 16, Limits::DEFAULT);
             assert_eq!(difference(&whole, &chunked), None, "step {step}");
+        }
+    }
+
+    #[test]
+    fn endless_files_and_lines_are_refused_with_the_line() {
+        let small = Limits {
+            file: 4096,
+            line: 64,
+        };
+        let text = format!("camera\n image_W= 3\n{}\nend\n", "x".repeat(65));
+        let e = parse_chunked(text.as_bytes(), mem_path(), Path::new("."), 7, small).unwrap_err();
+        let m = e.diagnostics.first().map(|d| d.message.as_str());
+        assert_eq!(
+            m,
+            Some(
+                "cannot read the scene file: line 3 is longer than 64 bytes, the longest line glint reads"
+            )
+        );
+        // NUL bytes without end, and endless short lines.
+        let e = parse_chunked(io::repeat(0), mem_path(), Path::new("."), 16, small).unwrap_err();
+        assert!(format!("{e}").contains("line 1 is longer"), "{e}");
+        let e =
+            parse_chunked(io::repeat(b'\n'), mem_path(), Path::new("."), 16, small).unwrap_err();
+        assert!(format!("{e}").contains("larger than 4096 bytes"), "{e}");
+        // Not a regular file: said so, never "not found", never blocking.
+        for (p, why) in [
+            ("/", "is a directory"),
+            ("/dev/zero", "is not a regular file"),
+        ] {
+            let e = parse_file(Path::new(p)).unwrap_err();
+            assert!(format!("{e}").contains(why), "{e}");
         }
     }
 
@@ -964,7 +1002,7 @@ primitive sphere
             fail_at: Some(100),
             interrupt: false,
         };
-        let e = parse_chunked(input, mem_path(), Path::new("."), 64).unwrap_err();
+        let e = parse_chunked(input, mem_path(), Path::new("."), 64, Limits::DEFAULT).unwrap_err();
         let d = e.diagnostics.first();
         assert_eq!(e.diagnostics.len(), 1);
         assert_eq!(
@@ -1004,7 +1042,7 @@ primitive sphere
             let d = difference(&whole, &from_file);
             assert_eq!(d, None, "{}", path.display());
             for n in [1, 7, 64] {
-                let chunked = parse_chunked(&bytes[..], &path, dir, n);
+                let chunked = parse_chunked(&bytes[..], &path, dir, n, Limits::DEFAULT);
                 let d = difference(&whole, &chunked);
                 assert_eq!(d, None, "{}, chunks of {n} bytes", path.display());
             }

@@ -85,6 +85,10 @@ pub(crate) fn render_region(
         // The band's worker keeps its blockers from tile to tile.
         let mut hints = ShadowHints::default();
         for x0 in (area.x as usize..(area.x + area.width) as usize).step_by(BAND) {
+            // Per tile, so that a cancel is prompt even with many samples.
+            if watch.cancelled() {
+                return rays;
+            }
             let x1 = (x0 + BAND).min((area.x + area.width) as usize);
             let tile = (x0 as u32..x1 as u32, y0 as u32..(y0 + rows) as u32);
             let index = |x: u32, y: u32| (y as usize - y0) * aw + (x - area.x) as usize;

@@ -1561,6 +1561,25 @@ fn obj_errors_are_messages_not_panics() {
         let e = load_obj(&p, DVec3::ZERO, DVec3::ONE, DVec3::ZERO).unwrap_err();
         assert!(e.contains(name), "{name}: {e}");
     }
+    // Bad OBJ text is reported at its line, invalid UTF-8 too.
+    for (text, line) in [
+        ("v 0 0 0\nv 1 0 0\n# c\nv 0 zero 0\nf 1 2 3\n", "line 4:"),
+        ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nvn 1 x 0", "line 5:"),
+    ] {
+        let p = write(&dir, "line.obj", text);
+        let e = load_obj(&p, DVec3::ZERO, DVec3::ONE, DVec3::ZERO).unwrap_err();
+        assert!(e.contains(line), "{text:?}: {e}");
+    }
+    let p = dir.join("utf8.obj");
+    std::fs::write(&p, b"v 0 0 0\nv 1 0 0\n\nv 0 1 0 \xff\n").unwrap();
+    let e = load_obj(&p, DVec3::ZERO, DVec3::ONE, DVec3::ZERO).unwrap_err();
+    assert!(e.contains("line 4:"), "{e}");
+    let p = dir.join("nul.obj");
+    std::fs::write(&p, vec![0u8; (1 << 20) + 10]).unwrap();
+    let e = load_obj(&p, DVec3::ZERO, DVec3::ONE, DVec3::ZERO).unwrap_err();
+    assert!(e.contains("line 1 is longer than 1 MiB"), "{e}");
+    let e = load_obj(&dir, DVec3::ZERO, DVec3::ONE, DVec3::ZERO).unwrap_err();
+    assert!(e.contains("is a directory"), "{e}");
     // A flattening scale: every triangle degenerate → an error, no NaN triangles.
     let p = write(&dir, "ok.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     assert!(load_obj(&p, DVec3::ZERO, v(1.0, 1.0, 0.0), DVec3::ZERO).is_ok());

@@ -838,6 +838,16 @@ fn bare_words_inside_a_block() {
 }
 
 #[test]
+fn sample_counts_past_the_maximum_are_refused_at_their_line() {
+    let d = error_at("camera\n shade_quality= 268435455\nend", 2, 2);
+    assert!(d.message.contains("at most 1024"), "{d}");
+    let d = error_at("camera\n image_W= 4\n drefl_quality= 1025\nend", 3, 2);
+    assert!(d.message.contains("`drefl_quality=` is too large"), "{d}");
+    let warned = crate::Scene::parse("camera\n shade_quality= 1024\nend", ".");
+    assert!(warned.is_ok());
+}
+
+#[test]
 fn missing_and_unreadable_files() {
     let d = error_at("primitive sphere\n R= 1\n texture= nowhere.bmp\nend", 3, 2);
     assert!(d.message.contains("not found"), "{d}");
@@ -854,6 +864,11 @@ fn missing_and_unreadable_files() {
     );
     let d = error_at("primitive mesh\n  O= 0 0 0\nend", 1, 1);
     assert!(d.message.contains("`file=`"), "{d}");
+    // A directory or a device: said so at the key, never "not found".
+    let d = error_at("primitive sphere\n R= 1\n texture= /tmp\nend", 3, 2);
+    assert!(d.message.contains("/tmp) is a directory"), "{d}");
+    let d = error_at("primitive mesh\n  file= /dev/zero\nend", 2, 3);
+    assert!(d.message.contains("is not a regular file"), "{d}");
 }
 
 #[test]
@@ -1293,8 +1308,11 @@ fn a_large_scene_parses() {
     let s = ok(&text);
     assert_eq!(s.objects().len(), n);
     assert_eq!(s.objects()[n - 1].block(), Some(n as u32 - 1));
-    assert_eq!(s.warnings().len(), n);
-    assert_eq!(s.warnings()[n - 1].line, 4 + 6 * (n - 1) + 4);
+    // 200 of them are listed (the last at the 200th sphere), then a count.
+    let w = s.warnings();
+    assert_eq!(w.len(), 201);
+    assert_eq!(w[199].line, 4 + 6 * 199 + 4);
+    assert_eq!(w[200].message, format!("… and {} more", n - 200));
 }
 
 // ---------------------------------------------------------------- fuzzing
@@ -1459,8 +1477,8 @@ fn sample_counts_far_above_the_default_warn_at_the_key() {
         assert!(s.warnings().is_empty(), "{:?}", s.warnings());
         let d = warning_at(&format!("camera\n O= 0 0 0\n  {key}= 65\nend"), 3, 3);
         assert!(d.message.contains("1040") && d.message.contains(key), "{d}");
-        let d = warning_at(&format!("camera\n {key}= 1000000\nend"), 2, 2);
-        assert!(d.message.contains("16000000"), "{d}");
+        let d = warning_at(&format!("camera\n {key}= 1024\nend"), 2, 2);
+        assert!(d.message.contains("16384"), "{d}");
     }
     let s = ok("camera\n shade_quality= 65\nend");
     assert_eq!(s.camera().shade_quality, 65, "the value is kept");

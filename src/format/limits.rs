@@ -1,0 +1,190 @@
+//! Bounds on what glint reads: no scene, mesh or rays file may be endless
+//! (`/dev/zero`) or one endless line, and only regular files are opened.
+
+use std::fmt;
+use std::io::Read;
+use std::path::Path;
+
+/// The most bytes read from a scene, mesh or rays file, and the longest line.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Limits {
+    /// Bytes in the whole file.
+    pub file: u64,
+    /// Bytes in one line (its `\n` not counted).
+    pub line: usize,
+}
+
+impl Limits {
+    /// The limits documented in docs/format.md: 1 GiB a file, 1 MiB a line.
+    pub const DEFAULT: Limits = Limits {
+        file: 1 << 30,
+        line: 1 << 20,
+    };
+}
+
+/// Why a file was not read.
+#[derive(Debug)]
+pub(crate) enum ReadError {
+    /// The operating system's error (or not a regular file).
+    Io(std::io::Error),
+    /// More bytes than [`Limits::file`].
+    TooLarge(u64),
+    /// The 1-based line that is longer than [`Limits::line`].
+    LineTooLong { line: usize, limit: usize },
+}
+
+impl fmt::Display for ReadError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ReadError::Io(e) => write!(f, "{e}"),
+            ReadError::TooLarge(limit) => write!(
+                f,
+                "the file is larger than {}, the most glint reads",
+                size(*limit as usize)
+            ),
+            ReadError::LineTooLong { line, limit } => write!(
+                f,
+                "line {line} is longer than {}, the longest line glint reads",
+                size(*limit)
+            ),
+        }
+    }
+}
+
+/// A size in bytes as people write it (1 MiB, 1 GiB).
+fn size(bytes: usize) -> String {
+    match bytes {
+        b if b >= 1 << 30 && b % (1 << 30) == 0 => format!("{} GiB", b >> 30),
+        b if b >= 1 << 20 && b % (1 << 20) == 0 => format!("{} MiB", b >> 20),
+        b => format!("{b} bytes"),
+    }
+}
+
+/// What is wrong with opening a file of this type, if anything: only
+/// regular files are read (a FIFO or a device could block or never end).
+pub(crate) fn not_regular(meta: &std::fs::Metadata) -> Option<&'static str> {
+    if meta.is_dir() {
+        Some("is a directory")
+    } else if !meta.is_file() {
+        Some("is not a regular file")
+    } else {
+        None
+    }
+}
+
+/// Opens a regular file, after checking its type (so a FIFO never blocks).
+pub(crate) fn open_regular(path: &Path) -> std::io::Result<std::fs::File> {
+    let meta = std::fs::metadata(path)?;
+    if let Some(why) = not_regular(&meta) {
+        return Err(std::io::Error::other(why));
+    }
+    std::fs::File::open(path)
+}
+
+/// Counts the lines of `bytes` (the text after a line start) and checks the
+/// last, unfinished one: `lines` and `line_start` carry the count and the
+/// offset of the current line from one call to the next.
+pub(crate) struct LineGuard {
+    lines: usize,
+    line_start: u64,
+    seen: u64,
+    limits: Limits,
+}
+
+impl LineGuard {
+    /// A guard at the start of a file.
+    pub fn new(limits: Limits) -> Self {
+        LineGuard {
+            lines: 0,
+            line_start: 0,
+            seen: 0,
+            limits,
+        }
+    }
+
+    /// Takes the next bytes of the file, refusing them past a limit.
+    pub fn check(&mut self, bytes: &[u8]) -> Result<(), ReadError> {
+        for (k, _) in bytes.iter().enumerate().filter(|(_, b)| **b == b'\n') {
+            let end = self.seen + k as u64;
+            if end - self.line_start > self.limits.line as u64 {
+                return Err(self.too_long());
+            }
+            self.lines += 1;
+            self.line_start = end + 1;
+        }
+        self.seen += bytes.len() as u64;
+        if self.seen - self.line_start > self.limits.line as u64 {
+            return Err(self.too_long());
+        }
+        if self.seen > self.limits.file {
+            return Err(ReadError::TooLarge(self.limits.file));
+        }
+        Ok(())
+    }
+
+    fn too_long(&self) -> ReadError {
+        ReadError::LineTooLong {
+            line: self.lines + 1,
+            limit: self.limits.line,
+        }
+    }
+}
+
+/// Reads all of `input` within `limits`.
+pub(crate) fn read_bounded(mut input: impl Read, limits: Limits) -> Result<Vec<u8>, ReadError> {
+    let mut guard = LineGuard::new(limits);
+    let mut bytes = Vec::new();
+    let mut buf = vec![0u8; 1 << 16];
+    loop {
+        let n = match input.read(&mut buf) {
+            Ok(0) => return Ok(bytes),
+            Ok(n) => n,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+            Err(e) => return Err(ReadError::Io(e)),
+        };
+        let new = buf.get(..n).unwrap_or_default();
+        guard.check(new)?;
+        bytes.extend_from_slice(new);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SMALL: Limits = Limits { file: 20, line: 4 };
+
+    #[test]
+    fn limits_hold_in_any_pieces() {
+        assert_eq!(
+            read_bounded(&b"abcd\nef\n"[..], SMALL).ok(),
+            Some(b"abcd\nef\n".to_vec())
+        );
+        let e = read_bounded(&b"ab\nabcde\n"[..], SMALL).unwrap_err();
+        assert!(matches!(e, ReadError::LineTooLong { line: 2, .. }), "{e}");
+        let e = read_bounded(std::io::repeat(0), SMALL).unwrap_err();
+        assert!(matches!(e, ReadError::LineTooLong { line: 1, .. }), "{e}");
+        let e = read_bounded(std::io::repeat(b'\n'), SMALL).unwrap_err();
+        assert!(matches!(e, ReadError::TooLarge(20)), "{e}");
+        // One byte at a time: the same answers.
+        let mut g = LineGuard::new(SMALL);
+        let r: Result<Vec<()>, _> = b"ab\nabcde".iter().map(|b| g.check(&[*b])).collect();
+        assert!(matches!(r, Err(ReadError::LineTooLong { line: 2, .. })));
+        assert_eq!(
+            ReadError::LineTooLong {
+                line: 3,
+                limit: 1 << 20
+            }
+            .to_string(),
+            "line 3 is longer than 1 MiB, the longest line glint reads"
+        );
+    }
+
+    #[test]
+    fn only_regular_files_are_opened() {
+        let e = open_regular(Path::new("/")).unwrap_err();
+        assert_eq!(e.to_string(), "is a directory");
+        let e = open_regular(Path::new("/dev/zero")).unwrap_err();
+        assert_eq!(e.to_string(), "is not a regular file");
+    }
+}
