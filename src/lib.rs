@@ -62,7 +62,7 @@ pub use render::{
     Aov, Control, Explanation, Film, MAX_EXPLAINED_SPP, MAX_THREADS, Plane, Region, RenderError,
     RenderOptions, RenderStats, Renderer, Sampling, Stage, WorkEstimate, memory_needed,
 };
-pub use scene::{Scene, SceneError};
+pub use scene::{Dialect, DialectChoice, Scene, SceneError};
 
 #[cfg(test)]
 mod tests;

@@ -107,8 +107,9 @@ fn a_broken_scene_exits_2_with_every_error_and_writes_nothing() {
     let o = render(&scene, &out, &[]);
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
-    // Each error with file:line:column; the misspelt type gets a suggestion.
-    assert!(err.contains("broken.txt:4:11"), "{err}");
+    // Each error with file:line:column; the misspelt type (skipped, with a
+    // warning) gets a suggestion.
+    assert!(err.contains("broken.txt:4:1"), "{err}");
     assert!(err.contains("did you mean `sphere`"), "{err}");
     assert!(err.contains("broken.txt:8:12"), "{err}");
     assert!(err.contains("broken.txt:9:5"), "{err}");
@@ -220,9 +221,14 @@ fn piped_stderr_gets_the_summary_line_but_no_progress_bar() {
     assert!(!err.contains('\r'), "a progress bar on a pipe: {err:?}");
     assert!(!err.contains("ETA"), "a progress bar on a pipe: {err:?}");
     let lines: Vec<&str> = err.lines().collect();
-    assert_eq!(lines.len(), 1, "expected only the summary line: {err:?}");
+    assert_eq!(
+        lines.len(),
+        2,
+        "expected the dialect and the summary line: {err:?}"
+    );
+    assert!(lines[0].starts_with("dialect f: "), "{err:?}");
     assert!(
-        lines[0].contains("640x480") && lines[0].contains("Mrays/s"),
+        lines[1].contains("640x480") && lines[1].contains("Mrays/s"),
         "{err:?}"
     );
     assert!(out.exists());
@@ -329,12 +335,12 @@ fn probe_rejects_bad_rays_with_line_and_column() {
 fn control_characters_from_a_scene_reach_the_terminal_escaped() {
     let dir = scratch("escape");
     let out = dir.join("s.png");
-    // A warning (unknown key) and an error (text outside a block), each
-    // quoting a word that holds an escape sequence.
+    // Two warnings (unknown key, text outside a block), each quoting a word
+    // that holds an escape sequence, and an error.
     let scene = write(
         &dir,
         "s.txt",
-        "camera\n \u{1b}[31mO= 1 2 3\nend\n\u{1b}[2Jprimitive sphere\nend\n",
+        "camera\n \u{1b}[31mO= 1 2 3\nend\n\u{1b}[2Jprimitive sphere\nend\nprimitive sphere\n R= x\nend\n",
     );
     let o = render(&scene, &out, &["--quiet"]);
     let err = String::from_utf8_lossy(&o.stderr);

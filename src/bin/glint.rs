@@ -2,8 +2,8 @@
 
 use clap::{Args, Parser, Subcommand};
 use glint::{
-    Aov, Control, Format, MAX_THREADS, RaysError, Region, RenderError, RenderOptions, Renderer,
-    Scene, memory_needed, read_rays, to_json, to_text,
+    Aov, Control, Dialect, Format, MAX_THREADS, RaysError, Region, RenderError, RenderOptions,
+    Renderer, Scene, memory_needed, read_rays, to_json, to_text,
 };
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::{IsTerminal, Write};
@@ -56,6 +56,10 @@ struct ExplainArgs {
     /// One JSON object (schema: docs/debugging.md).
     #[arg(long)]
     json: bool,
+    /// The lineage whose renderer's model draws the file: f, z14, pm3, v or w
+    /// (or a repository's name) [default: chosen by the file's markers]
+    #[arg(long, value_parser = dialect)]
+    dialect: Option<Dialect>,
 }
 
 /// Parses `--pixel X,Y`.
@@ -108,6 +112,10 @@ struct RenderArgs {
     /// the top): `X0,Y0,X1,Y1`; its pixels are those of the whole render.
     #[arg(long, value_parser = region)]
     region: Option<Region>,
+    /// The lineage whose renderer's model draws the file: f, z14, pm3, v or w
+    /// (or a repository's name) [default: chosen by the file's markers]
+    #[arg(long, value_parser = dialect)]
+    dialect: Option<Dialect>,
 }
 
 /// Parses `--region X0,Y0,X1,Y1` (ends excluded).
@@ -146,6 +154,21 @@ struct ProbeArgs {
     /// One JSON object per line: {"hit":true,"t":..,"point":[..],"normal":[..],"front":..,"primitive":K,"uv":[u,v]}.
     #[arg(long)]
     json: bool,
+    /// The lineage whose renderer's model draws the file: f, z14, pm3, v or w
+    /// (or a repository's name) [default: chosen by the file's markers]
+    #[arg(long, value_parser = dialect)]
+    dialect: Option<Dialect>,
+}
+
+/// Parses `--dialect NAME`.
+fn dialect(s: &str) -> Result<Dialect, String> {
+    Dialect::from_name(s).ok_or_else(|| {
+        let names: Vec<&str> = Dialect::ALL.iter().map(|d| d.name()).collect();
+        format!(
+            "unknown dialect `{s}`: expected one of {}",
+            names.join(", ")
+        )
+    })
 }
 
 /// Parses a whole number that must be at least 1 (`--spp`, `--threads`);
@@ -272,14 +295,17 @@ fn main() -> ExitCode {
 
 /// Reads a scene, printing its warnings, or its errors (already escaped, so
 /// printed here, perhaps in colour) and a [`Failure`] with nothing left to say.
-fn load_scene(path: &Path) -> Result<Scene, Failure> {
+fn load_scene(path: &Path, dialect: Option<Dialect>, announce: bool) -> Result<Scene, Failure> {
     let colour = colour();
-    let scene = Scene::from_file(path).map_err(|e| {
+    let scene = Scene::from_file_as(path, dialect).map_err(|e| {
         say_raw(&e.render(colour));
         fail("")
     })?;
     for w in scene.warnings() {
         say_raw(&format!("{}\n", w.render(colour)));
+    }
+    if announce {
+        say(&scene.dialect().to_string());
     }
     Ok(scene)
 }
@@ -318,7 +344,7 @@ fn run_render(args: RenderArgs, interrupt: &AtomicBool) -> Result<(), Failure> {
     });
     // Fail on the output path before spending the render time.
     refuse_scene_as_output(&args.scene, &output)?;
-    let scene = load_scene(&args.scene)?;
+    let scene = load_scene(&args.scene, args.dialect, !args.quiet)?;
     Format::from_path(&output).map_err(|e| fail(format!("error: {e}")))?;
     if args.verbose {
         for note in scene.notes() {
@@ -460,7 +486,7 @@ fn check_memory(w: u32, h: u32) -> Result<(), Failure> {
 }
 
 fn run_explain(args: ExplainArgs) -> Result<(), Failure> {
-    let scene = load_scene(&args.scene)?;
+    let scene = load_scene(&args.scene, args.dialect, true)?;
     let options = RenderOptions {
         threads: Some(1),
         seed: args.seed,
@@ -527,7 +553,7 @@ fn memory_available() -> Option<u64> {
 }
 
 fn run_probe(args: ProbeArgs) -> Result<(), Failure> {
-    let scene = load_scene(&args.scene)?;
+    let scene = load_scene(&args.scene, args.dialect, false)?;
     let name = args.rays.display().to_string();
     let cannot_read =
         |e: &dyn std::fmt::Display| fail(format!("error: cannot read the rays from {name}: {e}"));

@@ -10,9 +10,10 @@
 
 use super::assets::Assets;
 use super::block::Block;
+use super::diags::When;
 use super::suggest::closest;
 use super::values::{Value, unit};
-use crate::scene::{Background, Camera, LightKind, MAX_IMAGE_SIDE, Material, Texture};
+use crate::scene::{Background, Camera, Dialect, LightKind, MAX_IMAGE_SIDE, Material, Texture};
 use glam::DVec3;
 
 /// Above this `shade_quality=` or `drefl_quality=` (16 times the
@@ -154,6 +155,28 @@ pub(crate) fn camera(mut cam: Camera, b: &mut Block<'_>) -> Camera {
     if let Some(x) = b.non_negative("focalLen") {
         cam.dof.focal_len = x;
     }
+    if let Some((dx, site)) = b.fields.v3("Dx") {
+        match unit(dx) {
+            Some(dx) => cam.right = Some(dx),
+            None => b.diags.warn(
+                site,
+                "`Dx=` has zero length; the image's right-hand direction is taken from `N=`",
+                None,
+            ),
+        }
+    }
+    if let Some((name, site)) = b.fields.text("algorithm") {
+        const ALGORITHMS: [&str; 5] = ["RC", "RT", "PM", "PPM", "SPPM"];
+        if ALGORITHMS.contains(&name) {
+            cam.algorithm = Some(name.to_string());
+        } else {
+            b.diags.warn(
+                site,
+                format!("unknown algorithm `{name}`; the lineage's default is used"),
+                closest(name, &ALGORITHMS).map(|c| format!("did you mean `{c}`?")),
+            );
+        }
+    }
     cam
 }
 
@@ -162,8 +185,15 @@ pub(crate) fn point_light(b: &mut Block<'_>) -> Option<LightKind> {
     Some(LightKind::Point { pos: b.origin() })
 }
 
-/// `light square`: centre `O=`, half-edge vectors `Dx= Dy=`.
+/// `light square` (`light area`): centre `O=`, half-edge vectors `Dx= Dy=`.
 pub(crate) fn square_light(b: &mut Block<'_>) -> Option<LightKind> {
+    b.diags.warn_when(
+        When::In(Dialect::W),
+        b.header,
+        "W samples only a quarter of an area light (shade_quality rays): glint samples \
+         all of it, with 16 × shade_quality rays",
+        None,
+    );
     let center = b.origin();
     let (dx, dy) = b.span_pair("Dx", "Dy")?;
     Some(LightKind::Square { center, dx, dy })
@@ -196,6 +226,17 @@ pub(crate) fn material(
         absor: f.v3("absor").map_or(DVec3::ZERO, |(v, _)| v),
         texture: None,
     };
+    if let Some((drefl, site)) = f.num("drefl")
+        && drefl > 0.0
+    {
+        b.diags.warn_when(
+            When::In(Dialect::W),
+            site,
+            "W's reader never reads `drefl=` (it is left uninitialised): a plain mirror",
+            None,
+        );
+    }
+    let f = &b.fields;
     if let Some((blur, site)) = f.text("blur")
         && blur != "exp"
     {

@@ -7,11 +7,12 @@ use super::assets::Assets;
 use super::block::Block;
 use super::blocks;
 use super::diags::{Diags, Site};
+use super::dialect::Evidence;
 use super::lexer::Word;
 use super::schema::{BlockKind, Build, is_known_key};
 use super::suggest::closest;
 use super::values::{Entry, Fields, parse_entry};
-use crate::scene::{Light, Scene};
+use crate::scene::{Dialect, DialectChoice, Light, Scene};
 use glam::DVec3;
 use std::path::Path;
 
@@ -24,6 +25,10 @@ pub(crate) struct Builder<'p> {
     backgrounds: u32,
     /// The last block's fields, emptied: no allocation per block.
     spare: Fields,
+    /// What the file shows of its lineage.
+    pub evidence: Evidence,
+    /// Notes about the file as a whole.
+    notes: Vec<String>,
 }
 
 impl<'p> Builder<'p> {
@@ -38,7 +43,14 @@ impl<'p> Builder<'p> {
             cameras: 0,
             backgrounds: 0,
             spare: Fields::default(),
+            evidence: Evidence::default(),
+            notes: Vec::new(),
         }
+    }
+
+    /// Adds a note about the file as a whole.
+    pub fn note(&mut self, note: String) {
+        self.notes.push(note);
     }
 
     /// The index of the next `primitive` block (counting every one, in file order).
@@ -48,12 +60,19 @@ impl<'p> Builder<'p> {
         i
     }
 
-    /// The scene built so far, with the notes about its files.
-    pub fn finish(self) -> Scene {
+    /// The scene built so far, adapted to dialect `choice`, with the notes
+    /// about it and its files.
+    pub fn finish(self, mut choice: DialectChoice) -> Scene {
         let mut scene = self.scene;
+        self.evidence.adapt(choice.dialect, &mut scene);
+        choice.caveat = caveat(choice.dialect, scene.camera().algorithm.as_deref());
+        for note in self.notes {
+            scene.add_note(note);
+        }
         for note in self.assets.notes {
             scene.add_note(note);
         }
+        scene.set_dialect(choice);
         scene
     }
 
@@ -93,6 +112,25 @@ impl<'p> Builder<'p> {
                     closest(e.key, &kind.key_names()).map(|c| format!("did you mean `{c}=`?")),
                 ),
             }
+        }
+        match kind.title {
+            "camera" => fields
+                .list
+                .iter()
+                .for_each(|f| self.evidence.camera_key(f.name)),
+            "primitive sphere" => {
+                if let (Some((o, _)), Some((r, _))) = (fields.v3("O"), fields.num("R")) {
+                    self.evidence.sphere(o, r);
+                }
+            }
+            "primitive plane" => {
+                if let (Some((n, _)), Some((r, _))) = (fields.v3("N"), fields.num("R"))
+                    && let Some(n) = super::values::unit(n)
+                {
+                    self.evidence.plane(n, r);
+                }
+            }
+            _ => {}
         }
         let mut b = Block {
             title: kind.title,
@@ -140,6 +178,7 @@ impl<'p> Builder<'p> {
             }
         };
         let intensity = b.fields.v3("intensity").map_or(DVec3::ONE, |(v, _)| v);
+        self.evidence.light(color * intensity);
         if let Some(kind) = build(b)
             && b.diags.error_count() == errors
         {
@@ -173,6 +212,26 @@ impl<'p> Builder<'p> {
             self.scene.set_block_line(index, header_line(b.header));
         }
     }
+}
+
+/// What glint does not draw yet of dialect `d`'s picture (V's `algorithm`).
+fn caveat(d: Dialect, algorithm: Option<&str>) -> Option<String> {
+    let text = match (d, algorithm.unwrap_or("SPPM")) {
+        (Dialect::F | Dialect::W, _) | (Dialect::V, "RC" | "RT") => return None,
+        (Dialect::Z14, _) => {
+            "its diffuse light is photon-mapped: the direct part is rendered, \
+             indirect light and caustics not rendered yet"
+        }
+        (Dialect::Pm3, _) => {
+            "photon-mapped light (indirect light, caustics) not rendered yet; PM3 \
+             renders PM whatever `algorithm=` says"
+        }
+        (Dialect::V, "PM") => "photon-mapped light (indirect light, caustics) not rendered yet",
+        (Dialect::V, _) => {
+            "progressive photon mapping not rendered yet: its ray-traced part (RT) is rendered"
+        }
+    };
+    Some(text.to_string())
 }
 
 /// The 1-based line of a block's header.

@@ -1,7 +1,7 @@
 //! Places in a scene file and the diagnostics collected about them.
 
 use super::lexer::{self, Word};
-use crate::scene::{Diagnostic, Severity};
+use crate::scene::{Diagnostic, Dialect, Severity};
 
 /// A place in the file: 0-based line index, 1-based column, width (chars).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -73,6 +73,27 @@ pub(crate) struct Diags {
     /// Diagnostics past [`STORED`], counted only, and whether one was an error.
     dropped: usize,
     dropped_error: bool,
+    /// Per entry of `out`, the dialects it holds in (`None`: all).
+    when: Vec<Option<When>>,
+}
+
+/// The dialects a warning holds in: some depend on the dialect, chosen
+/// only once the whole file is read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum When {
+    /// Only when the file is read in this dialect.
+    In(Dialect),
+    /// Unless the file is read in this dialect.
+    NotIn(Dialect),
+}
+
+impl When {
+    fn holds(self, d: Dialect) -> bool {
+        match self {
+            When::In(x) => x == d,
+            When::NotIn(x) => x != d,
+        }
+    }
 }
 
 impl Diags {
@@ -83,6 +104,7 @@ impl Diags {
             errors: 0,
             dropped: 0,
             dropped_error: false,
+            when: Vec::new(),
         }
     }
 
@@ -111,6 +133,48 @@ impl Diags {
             source_line,
             help,
         });
+        self.when.push(None);
+    }
+
+    /// A warning that holds only in the dialects of `when` (see [`Diags::settle`]).
+    pub fn warn_when(
+        &mut self,
+        when: When,
+        site: Site,
+        message: impl Into<String>,
+        help: Option<String>,
+    ) {
+        let before = self.when.len();
+        self.push(Severity::Warning, site, message.into(), help);
+        if self.when.len() > before
+            && let Some(last) = self.when.last_mut()
+        {
+            *last = Some(when);
+        }
+    }
+
+    /// Gives a diagnostic recorded after its text was gone the excerpt of
+    /// another one on the same line.
+    pub fn share_source_lines(&mut self) {
+        let known: std::collections::HashMap<usize, String> = self
+            .out
+            .iter()
+            .filter(|d| !d.source_line.is_empty())
+            .map(|d| (d.line, d.source_line.clone()))
+            .collect();
+        for d in self.out.iter_mut().filter(|d| d.source_line.is_empty()) {
+            if let Some(line) = known.get(&d.line) {
+                d.source_line = line.clone();
+            }
+        }
+    }
+
+    /// Drops the warnings that do not hold in dialect `d`.
+    pub fn settle(&mut self, d: Dialect) {
+        let when = std::mem::take(&mut self.when);
+        let mut keep = when.iter().map(|w| w.is_none_or(|w| w.holds(d)));
+        self.out.retain(|_| keep.next().unwrap_or(true));
+        self.when = vec![None; self.out.len()];
     }
 
     /// Records an error (the scene will not render).
@@ -141,6 +205,7 @@ impl Diags {
     /// Forgets everything recorded since `cp`.
     pub fn rollback(&mut self, cp: Checkpoint) {
         self.out.truncate(cp.diags);
+        self.when.truncate(cp.diags);
         self.errors = cp.errors;
         self.dropped = cp.dropped;
         self.dropped_error = cp.dropped_error;

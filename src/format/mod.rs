@@ -12,6 +12,7 @@ mod block;
 mod blocks;
 mod builder;
 mod diags;
+mod dialect;
 mod lexer;
 mod limits;
 mod obj;
@@ -31,7 +32,7 @@ pub(crate) use obj::parse_obj;
 pub(crate) use reader::{parse_file, parse_str};
 pub(crate) use values::{NumberError, parse_number};
 
-use crate::scene::{Scene, SceneError};
+use crate::scene::{Dialect, Scene, SceneError};
 use std::path::Path;
 
 /// Reading scenes in the framework's format.
@@ -39,12 +40,30 @@ impl Scene {
     /// Reads and validates a scene file; relative texture and mesh paths
     /// are looked up next to the file first, then in the working directory.
     pub fn from_file(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
-        parse_file(path.as_ref())
+        parse_file(path.as_ref(), None)
+    }
+
+    /// [`Scene::from_file`] in dialect `dialect` (`None`: chosen by the
+    /// file's markers, see [`Scene::dialect`]).
+    pub fn from_file_as(
+        path: impl AsRef<Path>,
+        dialect: Option<Dialect>,
+    ) -> Result<Scene, SceneError> {
+        parse_file(path.as_ref(), dialect)
     }
 
     /// Parses scene text; relative paths are looked up in `base_dir`, then
     /// in the working directory.
     pub fn parse(text: &str, base_dir: impl AsRef<Path>) -> Result<Scene, SceneError> {
-        parse_str(text, None, base_dir.as_ref())
+        parse_str(text, None, base_dir.as_ref(), None)
+    }
+
+    /// [`Scene::parse`] in dialect `dialect` (`None`: chosen by the markers).
+    pub fn parse_as(
+        text: &str,
+        base_dir: impl AsRef<Path>,
+        dialect: Option<Dialect>,
+    ) -> Result<Scene, SceneError> {
+        parse_str(text, None, base_dir.as_ref(), dialect)
     }
 }

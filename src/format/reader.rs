@@ -4,26 +4,26 @@
 //! error and warning with the place in the file it is about.
 
 use super::builder::Builder;
-use super::diags::{Checkpoint, Diags, Site};
+use super::diags::{Checkpoint, Diags, Site, When};
 use super::lexer::{self, Line, Word};
 use super::limits::{Limits, LineGuard, ReadError, open_regular};
 use super::schema::{self, BlockKind, LIGHTS, PRIMITIVES};
 use super::suggest::closest;
 use super::values::Entry;
-use crate::scene::{Diagnostic, Scene, SceneError, Severity};
+use crate::scene::{Diagnostic, Dialect, Scene, SceneError, Severity};
 use std::io::Read;
 use std::path::Path;
 
-/// The words that open a block.
-const HEADERS: [&str; 4] = ["background", "camera", "light", "primitive"];
+/// The words that open a block (`object`: W's `primitive`).
+const HEADERS: [&str; 5] = ["background", "camera", "light", "primitive", "object"];
 
 /// How much of a scene file is read at a time.
 const CHUNK: usize = 1 << 20;
 
-pub(crate) fn parse_file(path: &Path) -> Result<Scene, SceneError> {
+pub(crate) fn parse_file(path: &Path, dialect: Option<Dialect>) -> Result<Scene, SceneError> {
     let file = open_regular(path).map_err(|e| read_error(path, &e))?;
     let dir = path.parent().unwrap_or(Path::new("."));
-    parse_chunked(file, path, dir, CHUNK, Limits::DEFAULT)
+    parse_chunked(file, path, dir, CHUNK, Limits::DEFAULT, dialect)
 }
 
 /// The error for a scene file that cannot be read (line 0: the file as a
@@ -51,10 +51,11 @@ fn parse_chunked(
     base: &Path,
     chunk: usize,
     limits: Limits,
+    dialect: Option<Dialect>,
 ) -> Result<Scene, SceneError> {
     let chunk = chunk.max(1);
     let mut guard = LineGuard::new(limits);
-    let mut reader = Reader::new(Some(path), base);
+    let mut reader = Reader::new(Some(path), base, dialect);
     // Bytes read but not yet parsed: after the last `\n` read so far.
     let mut raw: Vec<u8> = Vec::new();
     // The text to parse next: the carried part of the last piece, then new lines.
@@ -95,7 +96,7 @@ fn parse_chunked(
             Err(_) => String::from_utf8_lossy(piece),
         };
         text.push_str(if start_of_file {
-            lexer::strip_bom(&piece)
+            reader.strip_bom(&piece)
         } else {
             &piece
         });
@@ -110,9 +111,15 @@ fn parse_chunked(
     reader.finish()
 }
 
-pub(crate) fn parse_str(text: &str, path: Option<&Path>, base: &Path) -> Result<Scene, SceneError> {
-    let mut reader = Reader::new(path, base);
-    reader.feed(lexer::strip_bom(text), true);
+pub(crate) fn parse_str(
+    text: &str,
+    path: Option<&Path>,
+    base: &Path,
+    dialect: Option<Dialect>,
+) -> Result<Scene, SceneError> {
+    let mut reader = Reader::new(path, base, dialect);
+    let text = reader.strip_bom(text);
+    reader.feed(text, true);
     reader.finish()
 }
 
@@ -121,6 +128,9 @@ pub(crate) fn parse_str(text: &str, path: Option<&Path>, base: &Path) -> Result<
 struct Open<'a> {
     kind: Option<BlockKind>,
     header: Site,
+    /// The header word and the type after it, as written.
+    head: &'a str,
+    type_word: Option<&'a str>,
     entries: Vec<Entry<'a>>,
     /// The values of all its entries, which hold ranges of it.
     values: Vec<Word<'a>>,
@@ -154,19 +164,41 @@ struct Reader<'p> {
     skipping: bool,
     /// 0-based line of the file where the next piece starts.
     line: usize,
+    /// The dialect asked for (`--dialect`), if any.
+    dialect: Option<Dialect>,
+    /// Whether any block header was read.
+    any_block: bool,
+    /// The first text outside a block, if any.
+    first_outside: Option<Site>,
 }
 
 impl<'p> Reader<'p> {
     /// A reader of the file `path` (`None`: a string), resolving relative
     /// paths against `base` first.
-    fn new(path: Option<&Path>, base: &'p Path) -> Self {
+    fn new(path: Option<&Path>, base: &'p Path, dialect: Option<Dialect>) -> Self {
         let file = path.map_or_else(|| "<input>".to_string(), |p| p.display().to_string());
         Reader {
             diags: Diags::new(file),
             builder: Builder::new(base, path),
             skipping: false,
             line: 0,
+            dialect,
+            any_block: false,
+            first_outside: None,
         }
+    }
+
+    /// The file's first text without a UTF-8 byte-order mark, noting one.
+    fn strip_bom<'t>(&mut self, text: &'t str) -> &'t str {
+        let stripped = lexer::strip_bom(text);
+        if stripped.len() != text.len() {
+            self.builder.note(
+                "a UTF-8 byte-order mark opens the file: skipped (the lineages' readers \
+                 would lose the first block to it)"
+                    .to_string(),
+            );
+        }
+        stripped
     }
 
     /// Parses the next piece of the file: whole lines (ending in `\n` unless
@@ -186,6 +218,9 @@ impl<'p> Reader<'p> {
             lines += 1;
             let line = &line;
             let Some(first) = line.words.first() else {
+                if open.is_none() {
+                    comment_header(i, line, &mut self.diags);
+                }
                 continue;
             };
             if let Some(block) = open.as_mut() {
@@ -208,10 +243,10 @@ impl<'p> Reader<'p> {
                     continue;
                 }
                 let header = block.header;
-                self.diags.error(
+                self.diags.warn(
                     header,
-                    "this block has no `end`",
-                    Some(format!("expected a line `end` before line {}", i + 1)),
+                    "this block has no `end`; it ends at the next header",
+                    Some(format!("add a line `end` before line {}", i + 1)),
                 );
                 if let Some(block) = open.take() {
                     spare = finish(block, &mut self.builder, &mut self.diags);
@@ -219,8 +254,11 @@ impl<'p> Reader<'p> {
             }
             if first.text == "end" {
                 if !self.skipping {
-                    self.diags
-                        .error(Site::word(i, first), "`end` without a block to close", None);
+                    self.diags.warn(
+                        Site::word(i, first),
+                        "`end` without a block to close; ignored",
+                        None,
+                    );
                 }
                 self.skipping = false;
                 continue;
@@ -234,17 +272,27 @@ impl<'p> Reader<'p> {
                 Some(block) => {
                     open = Some(block);
                     self.skipping = false;
+                    self.any_block = true;
                 }
                 None if !self.skipping => {
                     let help =
                         closest(first.text, &HEADERS).map(|h| format!("did you mean `{h}`?"));
                     let last = line.words.last().unwrap_or(first);
-                    self.diags.error(
-                        Site::span(i, first, last),
+                    let site = Site::span(i, first, last);
+                    self.first_outside.get_or_insert(site);
+                    // A binary file's "word" can be very long: quote its start.
+                    let found: String = first.text.chars().take(40).collect();
+                    let cut = if found.len() < first.text.len() {
+                        "…"
+                    } else {
+                        ""
+                    };
+                    self.diags.warn(
+                        site,
                         format!(
-                            "text outside a block: expected a block header (`background`, \
-                             `camera`, `light TYPE` or `primitive TYPE`), found `{}`",
-                            first.text
+                            "text outside a block, skipped up to the next `end` or block \
+                             header: expected a block header (`background`, `camera`, \
+                             `light TYPE` or `primitive TYPE`), found `{found}{cut}`"
                         ),
                         help,
                     );
@@ -258,10 +306,10 @@ impl<'p> Reader<'p> {
         self.line = first_line + lines;
         if let Some(block) = open.take() {
             if last {
-                self.diags.error(
+                self.diags.warn(
                     block.header,
-                    "this block has no `end`",
-                    Some("expected a line `end` before the end of the file".to_string()),
+                    "this block has no `end`; it ends at the end of the file",
+                    Some("add a line `end`".to_string()),
                 );
                 finish(block, &mut self.builder, &mut self.diags);
             } else {
@@ -276,8 +324,32 @@ impl<'p> Reader<'p> {
     }
 
     /// The scene, or every error; warnings and errors in file order.
-    fn finish(self) -> Result<Scene, SceneError> {
-        let mut scene = self.builder.finish();
+    fn finish(mut self) -> Result<Scene, SceneError> {
+        if let (false, Some(site)) = (self.any_block, self.first_outside) {
+            self.diags.error(
+                site,
+                "no block in the file: this is not a scene file",
+                Some(
+                    "a scene is made of `camera`, `light TYPE`, `primitive TYPE` ... `end` blocks"
+                        .to_string(),
+                ),
+            );
+            self.diags.share_source_lines();
+        }
+        let (choice, warning) = self.builder.evidence.choose(self.dialect);
+        if let Some(w) = warning {
+            self.diags.warn(
+                Site {
+                    line: 0,
+                    col: 1,
+                    len: 1,
+                },
+                w,
+                None,
+            );
+        }
+        self.diags.settle(choice.dialect);
+        let mut scene = self.builder.finish(choice);
         let errors = self.diags.error_count();
         let all = self.diags.into_sorted();
         if errors > 0 {
@@ -290,8 +362,9 @@ impl<'p> Reader<'p> {
 
 /// Reads a header line; `None` (with no diagnostic) when the first word is
 /// not a header word, `Some` with `kind: None` when it is but its type is
-/// wrong. The block takes the vectors of `spare` (the last block's, emptied:
-/// no allocation per block).
+/// missing or unknown (the block is skipped, with a warning at its end).
+/// The block takes the vectors of `spare` (the last block's, emptied: no
+/// allocation per block).
 fn header<'a>(
     i: usize,
     line: &Line<'a, '_>,
@@ -299,45 +372,42 @@ fn header<'a>(
     spare: &mut Spare<'a>,
 ) -> Option<Open<'a>> {
     let first = line.words.first()?;
+    let type_word = line.words.get(1);
     let (kind, used) = match first.text {
         "background" => (Some(&schema::BACKGROUND), 1),
         "camera" => (Some(&schema::CAMERA), 1),
-        "light" | "primitive" => {
-            let is_light = first.text == "light";
-            let rows: &'static [schema::Row] = if is_light { &LIGHTS } else { &PRIMITIVES };
-
-            let what = first.text;
-            // Only for error messages: built when one is reported.
-            let list = || {
-                rows.iter()
-                    .map(|r| format!("`{}`", r.name))
-                    .collect::<Vec<_>>()
-                    .join(", ")
+        "light" | "primitive" | "object" => {
+            let rows: &'static [schema::Row] = if first.text == "light" {
+                &LIGHTS
+            } else {
+                &PRIMITIVES
             };
-            match line.words.get(1) {
+            if first.text == "object" {
+                diags.warn_when(
+                    When::NotIn(Dialect::W),
+                    Site::word(i, first),
+                    "`object` opens a primitive only in the W lineage's reader; read as `primitive`",
+                    None,
+                );
+            }
+            match type_word {
                 None => {
-                    diags.error(
+                    let what = if first.text == "light" {
+                        "light"
+                    } else {
+                        "primitive"
+                    };
+                    diags.warn(
                         Site::after(i, first),
-                        format!("expected a {what} type after `{what}`"),
-                        Some(format!("the {what} types are {}", list())),
+                        format!(
+                            "expected a {what} type after `{}`; block skipped",
+                            first.text
+                        ),
+                        Some(format!("the {what} types are {}", type_list(rows))),
                     );
                     (None, 1)
                 }
-                Some(t) => {
-                    let kind = schema::find(rows, t.text);
-                    if kind.is_none() {
-                        let help = match closest(t.text, &schema::names(rows)) {
-                            Some(s) => format!("did you mean `{s}`?"),
-                            None => format!("the {what} types are {}", list()),
-                        };
-                        diags.error(
-                            Site::word(i, t),
-                            format!("unknown {what} type `{}`", t.text),
-                            Some(help),
-                        );
-                    }
-                    (kind, 2)
-                }
+                Some(t) => (schema::find(rows, t.text), 2),
             }
         }
         _ => return None,
@@ -354,18 +424,71 @@ fn header<'a>(
     Some(Open {
         kind,
         header: Site::span(i, first, header_end),
+        head: first.text,
+        type_word: type_word.filter(|_| used == 2).map(|w| w.text),
         entries,
         values,
-        primitive: first.text == "primitive",
+        primitive: matches!(first.text, "primitive" | "object"),
     })
+}
+
+/// The types of `rows`, quoted, for messages.
+fn type_list(rows: &'static [schema::Row]) -> String {
+    rows.iter()
+        .map(|r| format!("`{}`", r.name))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Warns at a block of unknown type `t` (skipped): says what glint reads,
+/// suggesting a type only when every key of the block is one of its keys.
+fn unknown_type(block: &Open<'_>, t: &str, diags: &mut Diags) {
+    let rows: &'static [schema::Row] = if block.head == "light" {
+        &LIGHTS
+    } else {
+        &PRIMITIVES
+    };
+    let what = if block.head == "light" {
+        "light"
+    } else {
+        "primitive"
+    };
+    let fits = |name: &str| {
+        schema::find(rows, name)
+            .is_some_and(|row| block.entries.iter().all(|e| row.lookup(e.key).is_some()))
+    };
+    let help = match closest(t, &schema::names(rows)).filter(|s| fits(s)) {
+        Some(s) => format!("did you mean `{s}`?"),
+        None => format!("the {what} types are {}", type_list(rows)),
+    };
+    let site = Site {
+        line: block.header.line,
+        col: block.header.col,
+        len: block.header.len,
+    };
+    diags.warn(
+        site,
+        format!("unknown {what} type `{t}`: no lineage reads it; block skipped"),
+        Some(help),
+    );
 }
 
 /// Reads one line inside a block into an [`Entry`] (or diagnoses it).
 fn read_line<'a>(block: &mut Open<'a>, i: usize, line: &Line<'a, '_>, diags: &mut Diags) {
-    let Some(kind) = block.kind else {
+    let Some(first) = line.words.first() else {
         return;
     };
-    let Some(first) = line.words.first() else {
+    let Some(kind) = block.kind else {
+        // A skipped block: its keys only say what the block was.
+        if let Some(eq) = first.text.find('=') {
+            block.entries.push(Entry {
+                key: &first.text[..eq],
+                key_site: Site::word(i, first),
+                values: 0..0,
+                line: i,
+                raw: line.text,
+            });
+        }
         return;
     };
     let rest = line.words.get(1..).unwrap_or(&[]);
@@ -445,10 +568,13 @@ fn bare_word(kind: BlockKind, i: usize, line: &Line<'_, '_>, diags: &mut Diags) 
     }
     let keys = kind.key_names();
     if keys.contains(&first.text) {
-        diags.error(
-            Site::word(i, first),
-            format!("expected `=` after `{}`", first.text),
-            Some(format!("write `{}= ...`", first.text)),
+        diags.warn(
+            Site::span(i, first, last),
+            format!(
+                "`{}` without `=` is not read (no lineage's reader reads it); ignored",
+                first.text
+            ),
+            Some(format!("did you mean `{}=`?", first.text)),
         );
         return;
     }
@@ -461,14 +587,43 @@ fn bare_word(kind: BlockKind, i: usize, line: &Line<'_, '_>, diags: &mut Diags) 
             format!("did you mean `{c}=`?")
         }
     });
-    diags.error(
+    diags.warn(
         Site::span(i, first, last),
         format!(
-            "expected `key= values` or `end` in a `{}` block, found `{}`",
+            "expected `key= values` or `end` in a `{}` block, found `{}`; ignored",
             kind.title, first.text
         ),
         help,
     );
+}
+
+/// Warns at a comment line outside a block that holds `light`,
+/// `primitive` or `object`: a lineage's reader, which has no comments,
+/// would open a block there and lose the next block to it. (A `camera` or
+/// `background` there only reads the next block's lines as its own.)
+fn comment_header(i: usize, line: &Line<'_, '_>, diags: &mut Diags) {
+    for word in line.text.split_whitespace() {
+        if matches!(word, "light" | "primitive" | "object") {
+            // The word's 1-based column in characters.
+            let at = line.text.find(word).unwrap_or(0);
+            let site = Site {
+                line: i,
+                col: line.text[..at].chars().count() + 1,
+                len: word.chars().count(),
+            };
+            // The framework's format documents comments: warned in the relatives' files only.
+            diags.warn_when(
+                When::NotIn(Dialect::F),
+                site,
+                format!(
+                    "a comment with `{word}`: glint skips it, but the lineages' readers (which \
+                     have no comments) would open a block here and lose the next one"
+                ),
+                None,
+            );
+            break;
+        }
+    }
 }
 
 /// Hands a complete block to the builder; returns its vectors, emptied.
@@ -480,15 +635,23 @@ fn finish<'a>(mut block: Open<'a>, builder: &mut Builder<'_>, diags: &mut Diags)
     } else {
         0
     };
-    if let Some(kind) = block.kind {
-        builder.block(
+    builder.evidence.block(
+        block.header.line,
+        block.head,
+        block.type_word,
+        block.entries.iter().map(|e| e.key),
+    );
+    match (block.kind, block.type_word) {
+        (Some(kind), _) => builder.block(
             kind,
             block.header,
             &block.entries,
             &block.values,
             index,
             diags,
-        );
+        ),
+        (None, Some(t)) => unknown_type(&block, t, diags),
+        (None, None) => {}
     }
     block.entries.clear();
     block.values.clear();
@@ -560,9 +723,14 @@ mod tests {
     /// [`SIZES`], and checks every parse gives exactly the same; returns it.
     fn same_in_chunks(name: &str, bytes: &[u8]) -> Result<Scene, SceneError> {
         let base = Path::new("tests/data");
-        let whole = parse_str(&String::from_utf8_lossy(bytes), Some(mem_path()), base);
+        let whole = parse_str(
+            &String::from_utf8_lossy(bytes),
+            Some(mem_path()),
+            base,
+            None,
+        );
         for n in SIZES {
-            let chunked = parse_chunked(bytes, mem_path(), base, n, Limits::DEFAULT);
+            let chunked = parse_chunked(bytes, mem_path(), base, n, Limits::DEFAULT, None);
             let d = difference(&whole, &chunked);
             assert_eq!(d, None, "{name}, read in chunks of {n} bytes");
         }
@@ -736,7 +904,14 @@ primitive sphere
             .diagnostics
             .last()
             .map(|d| (d.line, d.column, d.message.as_str()));
-        assert_eq!(last, Some((26, 1, "this block has no `end`")));
+        assert_eq!(
+            last,
+            Some((
+                26,
+                1,
+                "this block has no `end`; it ends at the end of the file"
+            ))
+        );
         Ok(())
     }
 
@@ -769,15 +944,19 @@ primitive sphere
                 .iter()
                 .all(|d| !d.source_line.contains('\u{feff}'))
         );
+        assert!(with.notes().iter().any(|n| n.contains("byte-order mark")));
         // A misspelt header on the first line: the excerpt has no mark.
         let e = same_in_chunks("BOM error", "\u{feff}camra\nend\n".as_bytes()).unwrap_err();
-        assert_eq!(places(&Err(e)), vec![(1, 1, "camra")]);
+        assert_eq!(places(&Err(e)), vec![(1, 1, "camra"), (1, 1, "camra")]);
         // A mark at the start of a later line is a character like any other,
         // also when a chunk starts with that line (after the long comment).
         let later = format!("{WARNED}\n# {}\n\u{feff}camera\nend\n", "-".repeat(200));
-        let e = same_in_chunks("later BOM", later.as_bytes()).unwrap_err();
-        let d = e.errors().map(|d| (d.line, d.source_line.as_str()));
-        assert_eq!(d.collect::<Vec<_>>(), vec![(47, "\u{feff}camera")]);
+        let s = same_in_chunks("later BOM", later.as_bytes())?;
+        let d = s
+            .warnings()
+            .last()
+            .map(|d| (d.line, d.source_line.as_str()));
+        assert_eq!(d, Some((47, "\u{feff}camera")));
         Ok(())
     }
 
@@ -793,9 +972,12 @@ primitive sphere
         let s = same_in_chunks("latin-1", &bytes)?;
         assert_eq!(s.objects().len(), 5);
         bytes.extend_from_slice(b"primitive sph\xe8re\nend\n");
-        let e = same_in_chunks("latin-1 error", &bytes).unwrap_err();
-        let d = e.errors().next().map(|d| (d.column, d.source_line.clone()));
-        assert_eq!(d, Some((11, "primitive sph\u{fffd}re".to_string())));
+        let s = same_in_chunks("latin-1 unknown type", &bytes)?;
+        let d = s
+            .warnings()
+            .last()
+            .map(|d| (d.column, d.source_line.clone()));
+        assert_eq!(d, Some((1, "primitive sph\u{fffd}re".to_string())));
         Ok(())
     }
 
@@ -811,7 +993,10 @@ primitive sphere
             .map(|d| (d.column, d.len, d.source_line.as_str()));
         assert_eq!(w, Some((5, 6, "    colör= 1 1 1")));
         let e = same_in_chunks("multi-byte error", "日本 🎨 x\n".as_bytes()).unwrap_err();
-        assert_eq!(places(&Err(e)), vec![(1, 1, "日本 🎨 x")]);
+        assert_eq!(
+            places(&Err(e)),
+            vec![(1, 1, "日本 🎨 x"), (1, 1, "日本 🎨 x")]
+        );
         Ok(())
     }
 
@@ -827,10 +1012,11 @@ primitive sphere
             places(&Err(e)),
             vec![(1, 1, "primitive sphere"), (3, 8, "    R= x")]
         );
-        // Closed by the next header.
-        let text = "camera\n    O= 0 0 0\nprimitive sphere\n    R= 1\nend\n";
-        let e = same_in_chunks("closed by a header", text.as_bytes()).unwrap_err();
-        assert_eq!(places(&Err(e)), vec![(1, 1, "camera")]);
+        // Closed by the next header (a warning: both blocks are read).
+        let text = "camera\n    O= 0 -1 0\nprimitive sphere\n    R= 1\nend\n";
+        let s = same_in_chunks("closed by a header", text.as_bytes());
+        assert_eq!(places(&s), vec![(1, 1, "camera")]);
+        assert!(s.is_ok_and(|s| s.camera().origin.y == -1.0 && s.objects().len() == 1));
     }
 
     #[test]
@@ -844,11 +1030,6 @@ primitive sphere
                 (4, 1, "primitive cube"),
             ),
             ("primitive sphere\n R= x", (2, 5, " R= x")),
-            ("primitive sphere\n R= 1\nend\nend", (4, 1, "end")),
-            (
-                "primitive sphere\r\n R= 1\r\nend\r\nsphere\r",
-                (4, 1, "sphere"),
-            ),
         ] {
             let e = same_in_chunks(text, text.as_bytes()).unwrap_err();
             let first = e
@@ -856,6 +1037,17 @@ primitive sphere
                 .last()
                 .map(|d| (d.line, d.column, d.source_line.as_str()));
             assert_eq!(first, Some(want), "{text:?}");
+        }
+        for (text, want) in [
+            ("primitive sphere\n R= 1\nend\nend", (4, 1, "end")),
+            (
+                "primitive sphere\r\n R= 1\r\nend\r\nsphere\r",
+                (4, 1, "sphere"),
+            ),
+        ] {
+            let s = same_in_chunks(text, text.as_bytes());
+            assert_eq!(places(&s).last().copied(), Some(want), "{text:?}");
+            assert!(s.is_ok(), "{text:?}");
         }
         for text in ["", "\n", "\r\n\r\n", "\u{feff}", "  # nothing\n\n"] {
             same_in_chunks(text, text.as_bytes())?;
@@ -882,7 +1074,7 @@ primitive sphere
 
     #[test]
     fn a_block_read_again_leaves_no_trace() {
-        let mut r = Reader::new(None, Path::new("."));
+        let mut r = Reader::new(None, Path::new("."), None);
         let text = "primitive sphere\n R= 1\nend\nprimitive spere\n R= x\n";
         let carry = r.feed(text, false);
         assert_eq!(text.get(carry..), Some("primitive spere\n R= x\n"));
@@ -892,7 +1084,7 @@ primitive sphere
     #[test]
     fn a_difference_is_caught() -> Result<(), String> {
         let base = Path::new("tests/data");
-        let broken = parse_str(BROKEN, Some(mem_path()), base);
+        let broken = parse_str(BROKEN, Some(mem_path()), base, None);
         let Err(mut e) = broken.clone() else {
             return Err("BROKEN parses".into());
         };
@@ -902,7 +1094,7 @@ primitive sphere
             d.line += 1;
         }
         assert!(difference(&broken, &Err(e)).is_some());
-        let warned = parse_str(WARNED, Some(mem_path()), base);
+        let warned = parse_str(WARNED, Some(mem_path()), base, None);
         let Ok(mut s) = warned.clone() else {
             return Err("WARNED does not parse".into());
         };
@@ -950,7 +1142,7 @@ primitive sphere
     #[test]
     fn short_and_interrupted_reads() {
         let base = Path::new("tests/data");
-        let whole = parse_str(BROKEN, Some(mem_path()), base);
+        let whole = parse_str(BROKEN, Some(mem_path()), base, None);
         for step in [1, 3, 100] {
             let input = Stuttering {
                 bytes: BROKEN.as_bytes(),
@@ -958,7 +1150,7 @@ primitive sphere
                 fail_at: None,
                 interrupt: false,
             };
-            let chunked = parse_chunked(input, mem_path(), base, 16, Limits::DEFAULT);
+            let chunked = parse_chunked(input, mem_path(), base, 16, Limits::DEFAULT, None);
             assert_eq!(difference(&whole, &chunked), None, "step {step}");
         }
     }
@@ -970,7 +1162,8 @@ primitive sphere
             line: 64,
         };
         let text = format!("camera\n image_W= 3\n{}\nend\n", "x".repeat(65));
-        let e = parse_chunked(text.as_bytes(), mem_path(), Path::new("."), 7, small).unwrap_err();
+        let e =
+            parse_chunked(text.as_bytes(), mem_path(), Path::new("."), 7, small, None).unwrap_err();
         let m = e.diagnostics.first().map(|d| d.message.as_str());
         assert_eq!(
             m,
@@ -979,17 +1172,25 @@ primitive sphere
             )
         );
         // NUL bytes without end, and endless short lines.
-        let e = parse_chunked(io::repeat(0), mem_path(), Path::new("."), 16, small).unwrap_err();
-        assert!(format!("{e}").contains("line 1 is longer"), "{e}");
         let e =
-            parse_chunked(io::repeat(b'\n'), mem_path(), Path::new("."), 16, small).unwrap_err();
+            parse_chunked(io::repeat(0), mem_path(), Path::new("."), 16, small, None).unwrap_err();
+        assert!(format!("{e}").contains("line 1 is longer"), "{e}");
+        let e = parse_chunked(
+            io::repeat(b'\n'),
+            mem_path(),
+            Path::new("."),
+            16,
+            small,
+            None,
+        )
+        .unwrap_err();
         assert!(format!("{e}").contains("larger than 4096 bytes"), "{e}");
         // Not a regular file: said so, never "not found", never blocking.
         for (p, why) in [
             ("/", "is a directory"),
             ("/dev/zero", "is not a regular file"),
         ] {
-            let e = parse_file(Path::new(p)).unwrap_err();
+            let e = parse_file(Path::new(p), None).unwrap_err();
             assert!(format!("{e}").contains(why), "{e}");
         }
     }
@@ -1002,7 +1203,8 @@ primitive sphere
             fail_at: Some(100),
             interrupt: false,
         };
-        let e = parse_chunked(input, mem_path(), Path::new("."), 64, Limits::DEFAULT).unwrap_err();
+        let e = parse_chunked(input, mem_path(), Path::new("."), 64, Limits::DEFAULT, None)
+            .unwrap_err();
         let d = e.diagnostics.first();
         assert_eq!(e.diagnostics.len(), 1);
         assert_eq!(
@@ -1015,7 +1217,7 @@ primitive sphere
             ))
         );
         // As when the file cannot be opened at all.
-        let e = parse_file(Path::new("tests/data/no such file.txt")).unwrap_err();
+        let e = parse_file(Path::new("tests/data/no such file.txt"), None).unwrap_err();
         let d = e.diagnostics.first();
         assert_eq!(e.diagnostics.len(), 1);
         assert_eq!(
@@ -1031,7 +1233,7 @@ primitive sphere
         for path in paths {
             let bytes = std::fs::read(&path)?;
             let dir = path.parent().unwrap_or(Path::new("."));
-            let whole = parse_str(&String::from_utf8_lossy(&bytes), Some(&path), dir);
+            let whole = parse_str(&String::from_utf8_lossy(&bytes), Some(&path), dir, None);
             let objects = whole.as_ref().map(|s| s.objects().len());
             assert!(
                 objects.is_ok_and(|n| n > 0),
@@ -1042,7 +1244,7 @@ primitive sphere
             let d = difference(&whole, &from_file);
             assert_eq!(d, None, "{}", path.display());
             for n in [1, 7, 64] {
-                let chunked = parse_chunked(&bytes[..], &path, dir, n, Limits::DEFAULT);
+                let chunked = parse_chunked(&bytes[..], &path, dir, n, Limits::DEFAULT, None);
                 let d = difference(&whole, &chunked);
                 assert_eq!(d, None, "{}, chunks of {n} bytes", path.display());
             }

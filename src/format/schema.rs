@@ -45,6 +45,8 @@ const CAMERA_KEYS: Keys = &[
     ("max_hitpoints", Count),
     ("iterations", Count),
     ("reduction", Num),
+    ("Dx", Vec3),
+    ("algorithm", Text),
 ];
 
 const LIGHT_COMMON_KEYS: Keys = &[("color", Vec3), ("intensity", OneOrThree)];
@@ -123,7 +125,7 @@ pub(crate) static CAMERA: Row = Row {
 };
 
 /// The `light TYPE` blocks.
-pub(crate) static LIGHTS: [Row; 3] = [
+pub(crate) static LIGHTS: [Row; 4] = [
     Row {
         name: "point",
         title: "light point",
@@ -144,6 +146,14 @@ pub(crate) static LIGHTS: [Row; 3] = [
         keys: SPHERE_LIGHT_KEYS,
         common: LIGHT_COMMON_KEYS,
         build: Build::Light(blocks::sphere_light),
+    },
+    // The lineages' name for the square light.
+    Row {
+        name: "area",
+        title: "light area",
+        keys: SQUARE_LIGHT_KEYS,
+        common: LIGHT_COMMON_KEYS,
+        build: Build::Light(blocks::square_light),
     },
 ];
 

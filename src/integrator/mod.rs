@@ -3,12 +3,14 @@
 //! framework's ray tracer now; photon mapping and debugging views later),
 //! generic over a [`PathObserver`] that watches the rays it traces.
 
+mod model;
 mod observer;
 mod path;
 mod tree;
 mod visibility;
 mod whitted;
 
+pub(crate) use model::{AntiAlias, Lens, Model};
 pub use observer::RayKind;
 pub(crate) use observer::{AaHash, NoObserver, PathObserver, mix};
 pub use path::RayCounts;
@@ -35,6 +37,13 @@ impl<'a> Integrator<'a> {
     /// (its quality keys), querying `accel`.
     pub fn whitted(scene: &'a Scene, camera: &Camera, accel: &'a SceneAccel) -> Self {
         Integrator::Whitted(Whitted::new(scene, camera, accel))
+    }
+
+    /// The lineage's model it shades with.
+    pub fn model(&self) -> &Model {
+        match self {
+            Integrator::Whitted(w) => w.model(),
+        }
     }
 
     /// The colours of up to [`crate::accel::PACKET_MAX`] camera rays into

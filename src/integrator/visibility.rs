@@ -1,6 +1,7 @@
 //! Shadow rays: the fraction of a light that a point sees.
 
 use super::path::SceneAccel;
+use crate::accel::ShadowReach;
 use crate::geometry::{Ray, offset_origin};
 use crate::scene::Light;
 use glam::DVec3;
@@ -39,26 +40,93 @@ pub(crate) fn shade_factor(
     rng: &mut impl Rng,
     hints: &mut ShadowHints,
 ) -> (f64, u64) {
-    let origin = offset_origin(from.point, from.side);
-    // Every shadow ray of this point starts here (same sliver); only its
-    // direction changes.
-    let start = Ray::off_surface(origin, DVec3::ZERO);
-    let leaving = from.object;
-    let blocker = &mut hints[index as usize % HINT_SLOTS];
-    let bounds = light.bounds();
-    // An area light's visible surface does not block its own rays.
-    let own = bounds.map(|_| index);
-    // An area light's rays all run from `origin` into its box: the parts of
-    // the tree they may enter are found once.
-    let reach = match bounds {
-        Some((min, max)) if samples >= 2 => Some(accel.shadow_reach(origin, min, max, own)),
-        _ => None,
-    };
-    light.shade(origin, samples, rng, |dir, t_max| {
-        let ray = Ray { dir, ..start };
-        !match &reach {
-            Some(r) => accel.occluded_within(&ray, t_max, own, r, blocker),
-            None => accel.occluded_hinted(&ray, t_max, own, leaving, blocker),
+    let mut shadow = Shadow::new(accel, light, index, from, samples, hints);
+    light.shade(shadow.origin, samples, rng, |dir, t| shadow.reaches(dir, t))
+}
+
+/// The mean of `weight(unit direction, distance)` over the shadow samples
+/// from `from` that reach light `index` (see [`Light::shade_weighted`]),
+/// and the number of shadow rays traced.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)] // the arguments of shade_factor and the weight
+pub(crate) fn weighted_light(
+    accel: &SceneAccel,
+    light: &Light,
+    index: u32,
+    from: &ShadowFrom,
+    samples: u32,
+    rng: &mut impl Rng,
+    hints: &mut ShadowHints,
+    weight: impl FnMut(DVec3, f64) -> f64,
+) -> (f64, u64) {
+    let mut shadow = Shadow::new(accel, light, index, from, samples, hints);
+    light.shade_weighted(
+        shadow.origin,
+        samples,
+        rng,
+        |dir, t| shadow.reaches(dir, t),
+        weight,
+    )
+}
+
+/// The shadow rays of one shading point towards one light.
+struct Shadow<'a> {
+    accel: &'a SceneAccel,
+    /// Where they start (nudged off the surface).
+    origin: DVec3,
+    start: Ray,
+    /// The surface they leave (its neighbours are tried first).
+    leaving: Option<u32>,
+    /// The light's own surface, which does not block its rays.
+    own: Option<u32>,
+    /// The parts of the tree rays into an area light's box may enter.
+    reach: Option<ShadowReach>,
+    blocker: &'a mut Option<u32>,
+}
+
+impl<'a> Shadow<'a> {
+    #[inline(always)]
+    fn new(
+        accel: &'a SceneAccel,
+        light: &Light,
+        index: u32,
+        from: &ShadowFrom,
+        samples: u32,
+        hints: &'a mut ShadowHints,
+    ) -> Self {
+        let origin = offset_origin(from.point, from.side);
+        let bounds = light.bounds();
+        let own = bounds.map(|_| index);
+        // An area light's rays all run from `origin` into its box: the parts of
+        // the tree they may enter are found once.
+        let reach = match bounds {
+            Some((min, max)) if samples >= 2 => Some(accel.shadow_reach(origin, min, max, own)),
+            _ => None,
+        };
+        Shadow {
+            accel,
+            origin,
+            // Every shadow ray of this point starts here (same sliver); only
+            // its direction changes.
+            start: Ray::off_surface(origin, DVec3::ZERO),
+            leaving: from.object,
+            own,
+            reach,
+            blocker: &mut hints[index as usize % HINT_SLOTS],
         }
-    })
+    }
+
+    /// Whether the ray in direction `dir` reaches the light `t_max` away.
+    #[inline(always)]
+    fn reaches(&mut self, dir: DVec3, t_max: f64) -> bool {
+        let ray = Ray { dir, ..self.start };
+        !match &self.reach {
+            Some(r) => self
+                .accel
+                .occluded_within(&ray, t_max, self.own, r, self.blocker),
+            None => self
+                .accel
+                .occluded_hinted(&ray, t_max, self.own, self.leaving, self.blocker),
+        }
+    }
 }

@@ -1,11 +1,13 @@
-//! The framework's shading model (spec: "Shading model"), computed
-//! exactly: diffuse and the `L·N` specular per light with shadows, mirror
-//! and glossy reflection, refraction with Beer absorption, the per-ray
-//! clamp, depth 10.
+//! The Whitted-style ray tracer of every lineage, computed exactly: the
+//! framework's shading model (spec: "Shading model": diffuse and the `L·N`
+//! specular per light with shadows, mirror and glossy reflection,
+//! refraction with Beer absorption, the per-ray clamp, depth 10) and the
+//! relatives' variations of it, read from a [`Model`].
 
+use super::model::{Direct, Emitter, Glossy, Inside, Model};
 use super::observer::{LightSeen, PathObserver, RayKind, SurfaceSeen};
 use super::path::{PathState, SceneAccel};
-use super::visibility::{ShadowFrom, ShadowHints, shade_factor};
+use super::visibility::{ShadowFrom, ShadowHints, shade_factor, weighted_light};
 use crate::accel::PACKET_MAX;
 use crate::geometry::{Hit, Ray, offset_origin, perpendiculars};
 use crate::scene::{Camera, LightKind, Scene};
@@ -13,31 +15,35 @@ use glam::DVec3;
 use rand::Rng;
 use rand_pcg::Pcg32;
 
-/// A ray of this depth returns black (the camera ray has depth 1).
-pub(crate) const MAX_DEPTH: u32 = 10;
 /// Glossy reflections are averaged over many rays up to this depth, one ray
 /// deeper; each glossy ray also counts this many levels (the framework's
-/// `MAX_DREFL_DEP`), so a glossy surface seen in a glossy reflection takes one ray.
+/// `MAX_DREFL_DEP`), so a glossy surface seen in a glossy reflection takes
+/// one ray (a plain mirror in the lineages).
 const GLOSSY_AVERAGE_DEPTH: u32 = 2;
 
-/// The framework's ray tracer over one scene.
+/// The ray tracer over one scene, in its dialect's model.
 pub(crate) struct Whitted<'a> {
     scene: &'a Scene,
     accel: &'a SceneAccel,
     shadow_samples: u32,
-    glossy_samples: u32,
+    model: Model,
 }
 
 impl<'a> Whitted<'a> {
-    /// The tracer over `scene` (its camera's quality keys) using `accel`
-    /// (built over the scene's objects) for ray queries.
+    /// The tracer over `scene` (its dialect, its camera's quality keys)
+    /// using `accel` (built over the scene's objects) for ray queries.
     pub fn new(scene: &'a Scene, camera: &Camera, accel: &'a SceneAccel) -> Self {
         Whitted {
             scene,
             accel,
             shadow_samples: 16 * camera.shade_quality.max(1),
-            glossy_samples: 16 * camera.drefl_quality.max(1),
+            model: Model::of(scene.dialect().dialect, camera),
         }
+    }
+
+    /// The model it shades with.
+    pub fn model(&self) -> &Model {
+        &self.model
     }
 
     /// The colour seen along one camera ray, told to `obs`: the reference
@@ -52,7 +58,7 @@ impl<'a> Whitted<'a> {
     ) -> DVec3 {
         st.rays.camera += 1;
         obs.ray(RayKind::Camera, 1, ray);
-        let c = self.trace(ray, 1, st, obs, hints);
+        let c = self.trace(ray, 1, false, st, obs, hints);
         obs.done(c, DVec3::ONE);
         c
     }
@@ -74,44 +80,65 @@ impl<'a> Whitted<'a> {
             states[k].rays.camera += 1;
             let obs = &mut observers[k];
             obs.ray(RayKind::Camera, 1, ray);
-            out[k] = self.shade(ray, hit, 1, &mut states[k], obs, hints);
+            out[k] = self.shade(ray, hit, 1, false, &mut states[k], obs, hints);
             obs.done(out[k], DVec3::ONE);
         }
     }
 
-    /// The framework's `RayTracing`: the colour along `ray` at `depth`,
-    /// clamped to at most 1 per channel.
+    /// The framework's `RayTracing`: the colour along `ray` at `depth`
+    /// (`inside`: the lineages' refraction flag), clamped to at most 1 per
+    /// channel (in the lineages that clamp only the camera ray, at depth 1).
+    #[allow(clippy::too_many_arguments)] // the ray's state, its random stream and observer
     fn trace<O: PathObserver>(
         &self,
         ray: &Ray,
         depth: u32,
+        inside: bool,
         st: &mut PathState,
         obs: &mut O,
         hints: &mut ShadowHints,
     ) -> DVec3 {
         let found = self.accel.intersect(ray, f64::INFINITY);
-        self.shade(ray, found, depth, st, obs, hints)
+        self.shade(ray, found, depth, inside, st, obs, hints)
+    }
+
+    /// The colour `c` seen at `depth`, clamped as the model says.
+    #[inline(always)]
+    fn clamp(&self, c: DVec3, depth: u32) -> DVec3 {
+        if self.model.clamp_every_ray || depth == 1 {
+            c.min(DVec3::ONE)
+        } else {
+            c
+        }
     }
 
     /// [`Whitted::trace`] for a ray whose nearest hit is `found`.
+    #[allow(clippy::too_many_arguments)] // the ray's state, its random stream and observer
     fn shade<O: PathObserver>(
         &self,
         ray: &Ray,
         found: Option<(u32, Hit)>,
         depth: u32,
+        inside: bool,
         st: &mut PathState,
         obs: &mut O,
         hints: &mut ShadowHints,
     ) -> DVec3 {
         let scene = self.scene;
+        let model = &self.model;
         let Some((index, hit)) = found else {
-            return scene.background().color(ray.dir).min(DVec3::ONE);
+            return self.clamp(scene.background().color(ray.dir), depth);
         };
         let object = &self.accel.objects()[index as usize];
         obs.hit(object.origin());
         if let Some(light) = object.light() {
             obs.emitter(light, object.shape(), ray, &hit);
-            return scene.lights()[light as usize].color.min(DVec3::ONE);
+            let c = scene.lights()[light as usize].color;
+            return match model.emitter {
+                Emitter::Clamped => c.min(DVec3::ONE),
+                Emitter::Normalised if c.max_element() > 0.0 => c / c.max_element(),
+                Emitter::Normalised => c,
+            };
         }
         let m = scene.material_of(object);
         let shape = object.shape();
@@ -137,11 +164,15 @@ impl<'a> Whitted<'a> {
         });
         let mut color = DVec3::ZERO;
 
-        if m.diff > 0.0 || m.spec > 0.0 {
+        if m.diff > 0.0 || (m.spec > 0.0 && model.lit_by_specular) {
             let k = match m.texture.and_then(|t| scene.textures().get(t as usize)) {
+                Some(texture) if model.texture_replaces => texture.sample(surface.uv),
                 Some(texture) => m.color * texture.sample(surface.uv),
                 None => m.color,
             };
+            if model.ambient {
+                color += k * m.diff * scene.background().ambient();
+            }
             let from = ShadowFrom {
                 point,
                 side,
@@ -160,7 +191,51 @@ impl<'a> Whitted<'a> {
                     point,
                     side,
                 };
-                if d <= 0.0 {
+                if let Direct::Falloff { specular } = model.direct {
+                    let spec = if specular { m.spec } else { 0.0 };
+                    let mirror = reflect(ray.dir, n);
+                    let (mut diffuse, mut shiny, mut tried) = (0.0, 0.0, 0u32);
+                    let (e, rays) = weighted_light(
+                        self.accel,
+                        light,
+                        li as u32,
+                        &from,
+                        self.shadow_samples,
+                        &mut st.rng,
+                        hints,
+                        |l, dist| {
+                            let inv = 1.0 / (dist * dist);
+                            let (nl, rl) = (n.dot(l), mirror.dot(l));
+                            let a = if nl > 0.0 { m.diff * nl * inv } else { 0.0 };
+                            let b = if spec > 0.0 && rl > 0.0 {
+                                spec * rl.powi(50) * inv
+                            } else {
+                                0.0
+                            };
+                            diffuse += a;
+                            shiny += b;
+                            tried += 1;
+                            a + b
+                        },
+                    );
+                    st.rays.shadow += rays;
+                    // The share of the samples' weight that got through (a
+                    // weighted shade factor), split into its two parts.
+                    let whole = diffuse + shiny;
+                    let share = if whole > 0.0 { e / whole } else { 0.0 };
+                    seen.rays = rays;
+                    seen.s = (share * f64::from(tried)).min(1.0);
+                    (seen.diffuse, seen.specular) = (diffuse * share, shiny * share);
+                    if e > 0.0
+                        && let LightKind::Point { .. } = light.kind
+                    {
+                        obs.point_light(li as u32);
+                    }
+                    obs.light(&seen);
+                    color += k * light.color * e;
+                    continue;
+                }
+                if d <= model.min_dot {
                     obs.light(&seen);
                     continue;
                 }
@@ -189,34 +264,48 @@ impl<'a> Whitted<'a> {
             }
         }
 
-        // A ray deeper than MAX_DEPTH would return black: it is not traced.
-        let glossy = m.drefl > 0.0;
+        // A ray deeper than the model's depth would return black: it is not traced.
+        let max_depth = model.max_depth;
+        let glossy = m.drefl > 0.0
+            && match model.glossy {
+                Glossy::Exp => true,
+                Glossy::Disk => depth <= GLOSSY_AVERAGE_DEPTH,
+                Glossy::Mirror => false,
+            };
         let reflected_depth = depth + if glossy { GLOSSY_AVERAGE_DEPTH } else { 1 };
-        if m.refl > 0.0 && reflected_depth > MAX_DEPTH {
+        let (refl, refr) = if model.secondary {
+            (m.refl, m.refr)
+        } else {
+            (0.0, 0.0)
+        };
+        if refl > 0.0 && reflected_depth > max_depth {
             obs.cut(RayKind::Reflection);
         }
-        if m.refl > 0.0 && reflected_depth <= MAX_DEPTH {
+        if refl > 0.0 && reflected_depth <= max_depth {
             let mirror = reflect(ray.dir, n);
             let origin = offset_origin(point, side);
-            let weight = m.color * m.refl;
+            let weight = m.color * refl;
             if !glossy {
                 st.rays.reflected += 1;
                 let ray = Ray::off_surface(origin, mirror);
                 obs.ray(RayKind::Reflection, depth + 1, &ray);
-                let c = self.trace(&ray, depth + 1, st, obs, hints);
+                let c = self.trace(&ray, depth + 1, inside, st, obs, hints);
                 obs.done(c, weight);
                 color += c * weight;
             } else {
-                let samples = if depth <= GLOSSY_AVERAGE_DEPTH {
-                    self.glossy_samples
-                } else {
-                    1
+                let samples = match model.glossy {
+                    Glossy::Exp if depth > GLOSSY_AVERAGE_DEPTH => 1,
+                    Glossy::Exp => 16 * self.scene.camera().drefl_quality.max(1),
+                    _ => model.glossy_samples,
                 };
                 let (a1, a2) = perpendiculars(mirror);
                 let mut fan = obs.fan();
                 let mut sum = DVec3::ZERO;
                 for k in 0..samples {
-                    let dir = glossy_direction(mirror, side, a1, a2, m.drefl, &mut st.rng);
+                    let dir = match model.glossy {
+                        Glossy::Exp => glossy_direction(mirror, side, a1, a2, m.drefl, &mut st.rng),
+                        _ => disk_direction(mirror, a1, a2, m.drefl, &mut st.rng),
+                    };
                     st.rays.reflected += 1;
                     let ray = Ray::off_surface(origin, dir);
                     let kind = RayKind::Glossy {
@@ -224,7 +313,7 @@ impl<'a> Whitted<'a> {
                         n: samples,
                     };
                     fan.ray(kind, reflected_depth, &ray);
-                    let c = self.trace(&ray, reflected_depth, st, &mut fan, hints);
+                    let c = self.trace(&ray, reflected_depth, inside, st, &mut fan, hints);
                     fan.done(c, weight / samples as f64);
                     sum += c;
                 }
@@ -232,33 +321,39 @@ impl<'a> Whitted<'a> {
             }
         }
 
-        if depth >= MAX_DEPTH && m.refr > 0.0 {
+        if depth >= max_depth && refr > 0.0 {
             obs.cut(RayKind::Refraction);
         }
-        if depth < MAX_DEPTH && m.refr > 0.0 {
-            let eta = if front { 1.0 / m.rindex } else { m.rindex };
-            let (dir, origin, kind) = match refract(ray.dir, n, eta) {
-                Some(t) => (t, offset_origin(point, -side), RayKind::Refraction),
+        if depth < max_depth && refr > 0.0 {
+            // Which side the ray is on: its face, or the lineages' flag.
+            let within = match model.inside {
+                Inside::FrontFace => !front,
+                Inside::Parity => inside,
+            };
+            let eta = if within { m.rindex } else { 1.0 / m.rindex };
+            let (dir, origin, kind, next) = match refract(ray.dir, n, eta) {
+                Some(t) => (t, offset_origin(point, -side), RayKind::Refraction, !inside),
                 None => (
                     reflect(ray.dir, n),
                     offset_origin(point, side),
                     RayKind::TotalInternalReflection,
+                    inside,
                 ),
             };
             st.rays.refracted += 1;
             let ray = Ray::off_surface(origin, dir);
             obs.ray(kind, depth + 1, &ray);
-            let c = self.trace(&ray, depth + 1, st, obs, hints);
-            let weight = if front {
-                DVec3::splat(m.refr)
+            let c = self.trace(&ray, depth + 1, next, st, obs, hints);
+            let weight = if within {
+                (-m.absor * hit.t).exp() * refr
             } else {
-                (-m.absor * hit.t).exp() * m.refr
+                DVec3::splat(refr)
             };
             obs.done(c, weight);
             color += c * weight;
         }
         obs.shaded(color);
-        color.min(DVec3::ONE)
+        self.clamp(color, depth)
     }
 }
 
@@ -308,6 +403,21 @@ fn glossy_direction(
         dir -= side * (2.0 * below);
     }
     dir
+}
+
+/// The lineages' glossy direction: the mirror direction offset by
+/// drefl²·(x·a1 + y·a2), (x, y) uniform in the unit disk (the disk is
+/// symmetric, so any perpendicular pair serves).
+#[inline(always)]
+fn disk_direction(mirror: DVec3, a1: DVec3, a2: DVec3, drefl: f64, rng: &mut Pcg32) -> DVec3 {
+    let (x, y) = loop {
+        let x = 2.0 * rng.random::<f64>() - 1.0;
+        let y = 2.0 * rng.random::<f64>() - 1.0;
+        if x * x + y * y <= 1.0 {
+            break (x, y);
+        }
+    };
+    (mirror + (a1 * x + a2 * y) * (drefl * drefl)).normalize()
 }
 
 #[cfg(test)]

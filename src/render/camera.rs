@@ -1,6 +1,8 @@
-//! The framework's pinhole camera.
+//! The pinhole cameras of the lineages: the framework's, PM3's and V's
+//! (the lens spans the outer pixels' centres), and W's (aimed at a corner).
 
 use crate::geometry::Ray;
+use crate::integrator::Lens;
 use crate::scene::Camera;
 use glam::DVec3;
 
@@ -11,21 +13,30 @@ pub struct CameraRays {
     dir: DVec3,
     /// Right vector scaled by lens_W / 2.
     dx: DVec3,
-    /// Up vector scaled by lens_H / 2.
+    /// Up vector scaled by lens_H / 2 (W: down the image).
     dy: DVec3,
     width: f64,
     height: f64,
+    lens: Lens,
+}
+
+/// unit(N × ẑ), or x̂ when N is vertical: the framework's right-hand direction.
+fn right_of(n: DVec3) -> DVec3 {
+    let right = n.cross(DVec3::Z);
+    if right.length_squared() < 1e-24 {
+        DVec3::X
+    } else {
+        right.normalize()
+    }
 }
 
 impl CameraRays {
-    /// Sets up the basis of the spec for a camera rendering `width` × `height` pixels.
-    pub fn new(camera: &Camera, width: u32, height: u32) -> Self {
+    /// Sets up the basis of `lens` for a camera rendering `width` × `height` pixels.
+    pub fn new(camera: &Camera, width: u32, height: u32, lens: Lens) -> Self {
         let n = camera.dir;
-        let right = n.cross(DVec3::Z);
-        let right = if right.length_squared() < 1e-24 {
-            DVec3::X
-        } else {
-            right.normalize()
+        let right = match lens {
+            Lens::Corner => camera.right.unwrap_or_else(|| right_of(n)),
+            Lens::Framework | Lens::Spanned => right_of(n),
         };
         let up = right.cross(n);
         CameraRays {
@@ -35,6 +46,7 @@ impl CameraRays {
             dy: up * (camera.lens_h / 2.0),
             width: width as f64,
             height: height as f64,
+            lens,
         }
     }
 
@@ -42,9 +54,24 @@ impl CameraRays {
     /// columns from the left), both in pixels (pixel centres at k + ½).
     #[inline]
     pub fn ray(&self, i: f64, j: f64) -> Ray {
-        let d = self.dir
-            + self.dy * (2.0 * i / self.height - 1.0)
-            + self.dx * (2.0 * j / self.width - 1.0);
+        let d = match self.lens {
+            Lens::Framework => {
+                self.dir
+                    + self.dy * (2.0 * i / self.height - 1.0)
+                    + self.dx * (2.0 * j / self.width - 1.0)
+            }
+            // Pixel k's centre is the lineage's integer k: N + Dy·lens_H·(k/(H−1) − ½)...
+            Lens::Spanned => {
+                let span = |k: f64, n: f64| 2.0 * ((k - 0.5) / (n - 1.0).max(1.0) - 0.5);
+                self.dir + self.dy * span(i, self.height) + self.dx * span(j, self.width)
+            }
+            // W's row index counts from the top, and N is aimed at pixel (0, 0).
+            Lens::Corner => {
+                self.dir
+                    + self.dy * (2.0 * (self.height - i) / self.height)
+                    + self.dx * (2.0 * j / self.width)
+            }
+        };
         Ray::new(self.origin, d.normalize())
     }
 }
@@ -61,7 +88,7 @@ mod tests {
             lens_h: 0.6,
             ..Camera::default()
         };
-        let c = CameraRays::new(&cam, 100, 60);
+        let c = CameraRays::new(&cam, 100, 60, Lens::Framework);
         assert!((c.ray(30.0, 50.0).dir - DVec3::Y).length() < 1e-15);
         // Top-right corner: N + Dy + Dx with Dx = (1,0,0)·0.5 (N × z = x), Dy = (0,0,1)·0.3.
         let want = DVec3::new(0.5, 1.0, 0.3).normalize();
@@ -71,7 +98,7 @@ mod tests {
             dir: -DVec3::Z,
             ..cam
         };
-        let c = CameraRays::new(&cam, 100, 60);
+        let c = CameraRays::new(&cam, 100, 60, Lens::Framework);
         let want = DVec3::new(0.5, 0.0, -1.0).normalize();
         assert!((c.ray(30.0, 100.0).dir - want).length() < 1e-15);
     }

@@ -2,12 +2,14 @@
 //! that pixel (the same samples, the anti-aliasing's decision included),
 //! with the bytes the render writes there and a verdict on why.
 
-use super::frame::{AA_GRID, Frame};
+use super::frame::Frame;
 use super::passes::differs;
 use super::verdict::verdict;
 use crate::accel::PACKET_MAX;
 use crate::geometry::{Ray, offset_origin};
-use crate::integrator::{AaHash, Blocker, PathState, RayNode, RayTree, SceneAccel, ShadowHints};
+use crate::integrator::{
+    AaHash, AntiAlias, Blocker, PathState, RayNode, RayTree, SceneAccel, ShadowHints,
+};
 use crate::output::Image;
 use crate::sampling::strata;
 use crate::scene::{LightKind, Origin, Scene};
@@ -69,11 +71,20 @@ pub(crate) fn explain_pixel(
             (Sampling::Stratified(1), c, trees)
         }
         None => {
-            let refined = anti_aliased(frame, x, y, &mut hints);
-            let (c, trees) = if refined {
-                let n = (AA_GRID * AA_GRID) as usize;
+            let refined = frame.refine_count() > 0 && anti_aliased(frame, x, y, &mut hints);
+            let (c, trees) = if refined && frame.anti_alias() == AntiAlias::Cross5 {
+                // PM3's: the centre's colour as stored, and four rays more.
+                let (first, mut trees) =
+                    watched(frame, 1, &mut hints, |_| frame.centre_sample(x, y));
+                let first = DVec3::from(first.as_vec3());
+                let n = frame.refine_count();
+                let (sum, more) = watched(frame, n, &mut hints, |k| frame.grid_sample(x, y, k));
+                trees.extend(more);
+                (frame.refined(first, sum), trees)
+            } else if refined {
+                let n = frame.refine_count();
                 let (sum, trees) = watched(frame, n, &mut hints, |k| frame.grid_sample(x, y, k));
-                (sum / n as f64, trees)
+                (frame.refined(DVec3::ZERO, sum), trees)
             } else {
                 watched(frame, 1, &mut hints, |_| frame.centre_sample(x, y))
             };

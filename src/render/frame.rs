@@ -5,7 +5,7 @@ use super::camera::CameraRays;
 use crate::accel::PACKET_MAX;
 use crate::geometry::Ray;
 use crate::integrator::{
-    Integrator, NoObserver, PathObserver, PathState, RayCounts, ShadowHints, mix,
+    AntiAlias, Integrator, NoObserver, PathObserver, PathState, RayCounts, ShadowHints, mix,
 };
 use crate::sampling::strata;
 use crate::scene::Camera;
@@ -21,6 +21,10 @@ const _: () = assert!(
     BAND * BAND <= PACKET_MAX && (AA_GRID * AA_GRID) as usize <= PACKET_MAX,
     "a tile, and a pixel's grid, are one packet each"
 );
+
+/// PM3's pass-2 rays: (rows up, columns right) from the centre, in thirds
+/// of a pixel, in the order PM3 traces them.
+const CROSS: [(f64, f64); 4] = [(-1.0, 0.0), (0.0, -1.0), (0.0, 1.0), (1.0, 0.0)];
 
 /// The columns and rows of a tile of pixels.
 pub(crate) type Tile = (std::ops::Range<u32>, std::ops::Range<u32>);
@@ -40,9 +44,10 @@ impl<'a> Frame<'a> {
     /// `integrator`, with the random streams of `seed`.
     pub fn new(camera: &Camera, integrator: Integrator<'a>, seed: u64) -> Self {
         let (width, height) = (camera.width, camera.height);
+        let lens = integrator.model().lens;
         Frame {
             integrator,
-            camera: CameraRays::new(camera, width, height),
+            camera: CameraRays::new(camera, width, height, lens),
             width,
             height,
             seed,
@@ -85,14 +90,46 @@ impl<'a> Frame<'a> {
         (self.ray(x, y, 0.5, 0.5), self.state(x, y, 0))
     }
 
-    /// Sample `k` (row by row) of pixel (x, y)'s 7×7 anti-aliasing grid.
+    /// The anti-aliasing of the lineage.
+    pub fn anti_alias(&self) -> AntiAlias {
+        self.integrator.model().anti_alias
+    }
+
+    /// The camera rays pass 2 traces in a refined pixel: the 7×7 grid, or
+    /// PM3's four rays ⅓ px away (none without anti-aliasing).
+    pub fn refine_count(&self) -> usize {
+        match self.anti_alias() {
+            AntiAlias::Grid7 => (AA_GRID * AA_GRID) as usize,
+            AntiAlias::Cross5 => CROSS.len(),
+            AntiAlias::None => 0,
+        }
+    }
+
+    /// Sample `k` of pass 2 in pixel (x, y): of the 7×7 grid (row by row),
+    /// or of PM3's four rays ⅓ px above, left, right and below the centre.
     pub fn grid_sample(&self, x: u32, y: u32, k: usize) -> (Ray, PathState) {
-        let g = AA_GRID as usize;
-        let at = |k: usize| ((k % g) as f64 + 0.5) / g as f64;
-        (
-            self.ray(x, y, at(k), at(k / g)),
-            self.state(x, y, 1 + k as u32),
-        )
+        let (fx, fy) = match self.anti_alias() {
+            AntiAlias::Cross5 => {
+                let (di, dj) = CROSS[k % CROSS.len()];
+                // Rows from the top here, the lineage's i from the bottom.
+                (0.5 + dj / 3.0, 0.5 - di / 3.0)
+            }
+            _ => {
+                let g = AA_GRID as usize;
+                let at = |k: usize| ((k % g) as f64 + 0.5) / g as f64;
+                (at(k), at(k / g))
+            }
+        };
+        (self.ray(x, y, fx, fy), self.state(x, y, 1 + k as u32))
+    }
+
+    /// A refined pixel's colour from its pass-1 colour `first` (as stored)
+    /// and the sum of its pass-2 samples.
+    pub fn refined(&self, first: DVec3, sum: DVec3) -> DVec3 {
+        match self.anti_alias() {
+            AntiAlias::Cross5 => ((first + sum) / 5.0).min(DVec3::ONE),
+            _ => sum / self.refine_count().max(1) as f64,
+        }
     }
 
     /// Traces `n` (at most [`PACKET_MAX`]) camera rays as one packet: ray k
@@ -129,14 +166,21 @@ impl<'a> Frame<'a> {
         }
     }
 
-    /// Pass 2 for pixel (x, y): the mean of the framework's 7×7 grid of
-    /// camera rays, traced as one packet.
-    pub fn refine(&self, x: u32, y: u32, rays: &mut RayCounts, hints: &mut ShadowHints) -> DVec3 {
-        let g = AA_GRID as usize;
+    /// Pass 2 for pixel (x, y), whose pass-1 colour was `first`: the mean
+    /// of the framework's 7×7 grid of camera rays (or PM3's five rays),
+    /// traced as one packet.
+    pub fn refine(
+        &self,
+        x: u32,
+        y: u32,
+        first: DVec3,
+        rays: &mut RayCounts,
+        hints: &mut ShadowHints,
+    ) -> DVec3 {
         // Summed in grid order, as one ray after another would be.
         let mut sum = DVec3::ZERO;
         self.packet::<NoObserver>(
-            g * g,
+            self.refine_count(),
             |k| self.grid_sample(x, y, k),
             |_, c, _, r| {
                 sum += c;
@@ -144,7 +188,7 @@ impl<'a> Frame<'a> {
             },
             hints,
         );
-        sum / (g * g) as f64
+        self.refined(first, sum)
     }
 
     /// Pass 1 over the tile of columns `xs` and rows `ys` when a pixel takes
@@ -311,7 +355,7 @@ mod tests {
         // Pass 2: a pixel's 7×7 grid as one packet, against ray after ray.
         for (x, y) in [(0, 0), (30, 18), (60, 36), (12, 25)] {
             let mut rays = RayCounts::default();
-            let got = frame.refine(x, y, &mut rays, &mut hints);
+            let got = frame.refine(x, y, DVec3::ZERO, &mut rays, &mut hints);
             let mut want = DVec3::ZERO;
             let mut want_rays = RayCounts::default();
             for a in 0..AA_GRID {

@@ -1,11 +1,12 @@
 //! The passes over a region: pass 1 traces each pixel's centre (or its
-//! stratified samples); with the framework's adaptive anti-aliasing, pass 2
-//! traces a 7×7 grid in each pixel whose hash differs from a 4-neighbour's.
+//! stratified samples); with the adaptive anti-aliasing, pass 2 traces a
+//! 7×7 grid (PM3 and V: four more rays) in each pixel whose hash differs
+//! from a 4-neighbour's.
 //! Pass 1 covers a one-pixel halo around the region, so a region's pixels
 //! see the neighbours they see in a full render: the same bytes.
 
 use super::film::Region;
-use super::frame::{AA_GRID, BAND, Frame};
+use super::frame::{BAND, Frame};
 use crate::integrator::{AaHash, NoObserver, RayCounts, ShadowHints};
 use glam::DVec3;
 use rayon::prelude::*;
@@ -47,7 +48,7 @@ pub(crate) fn render_region(
     watch: &Watch,
 ) -> Option<Rendered> {
     let (w, h) = (frame.width, frame.height);
-    let adaptive = spp.is_none();
+    let adaptive = spp.is_none() && frame.refine_count() > 0;
     let spp = spp.map(|n| n.max(1));
     let per_pixel = spp.unwrap_or(1) as u64;
     // Pass 1 covers a halo around the region when pass 2 compares neighbours.
@@ -106,7 +107,7 @@ pub(crate) fn render_region(
                     };
                     frame.stratified_tile(tile, n, &mut rays, &mut hints, put);
                 }
-                Some(_) => {
+                _ if !adaptive => {
                     let put = |x, y, c, _: &NoObserver, r| {
                         let i = index(x, y);
                         band_pixels[i] = to_f32(c);
@@ -114,7 +115,7 @@ pub(crate) fn render_region(
                     };
                     frame.centre_tile(tile, &mut rays, &mut hints, put);
                 }
-                None => {
+                _ => {
                     let put = |x, y, c, hash: &AaHash, r| {
                         let i = index(x, y);
                         (band_pixels[i], band_hashes[i]) = (to_f32(c), hash.folded());
@@ -156,7 +157,7 @@ pub(crate) fn render_region(
             .filter(|&(x, y)| differs(hash, x, y, w, h))
             .collect();
         refined = edge.len() as u64;
-        let n = (AA_GRID * AA_GRID) as u64;
+        let n = frame.refine_count() as u64;
         total.fetch_add(refined * n, Ordering::Relaxed);
         let refined_colors: Vec<(DVec3, RayCounts)> = edge
             .par_chunks(16)
@@ -169,7 +170,8 @@ pub(crate) fn render_region(
                     .iter()
                     .map(|&(x, y)| {
                         let mut rays = RayCounts::default();
-                        (frame.refine(x, y, &mut rays, &mut hints), rays)
+                        let first = DVec3::from(glam::Vec3::from(pixels[at(x, y)]));
+                        (frame.refine(x, y, first, &mut rays, &mut hints), rays)
                     })
                     .collect();
                 report(out.len() as u64 * n);

@@ -28,4 +28,12 @@ impl Background {
             }
         }
     }
+
+    /// The colour of the lineages' ambient term (`color=`; the mean of a gradient's ends).
+    pub fn ambient(&self) -> DVec3 {
+        match *self {
+            Background::Color(c) => c,
+            Background::Gradient { top, bottom } => (top + bottom) * 0.5,
+        }
+    }
 }

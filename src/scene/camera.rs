@@ -28,6 +28,10 @@ pub struct Camera {
     pub photons: PhotonSettings,
     /// Depth of field (variants; rendered by a later feature).
     pub dof: DepthOfField,
+    /// The W lineage's right-hand direction of the image (`Dx=`), if given.
+    pub right: Option<DVec3>,
+    /// The V lineage's algorithm (`algorithm=`: `RC`, `RT`, `PM`, `PPM`, `SPPM`), if given.
+    pub algorithm: Option<String>,
 }
 
 impl Default for Camera {
@@ -43,6 +47,8 @@ impl Default for Camera {
             drefl_quality: 4,
             photons: PhotonSettings::default(),
             dof: DepthOfField::default(),
+            right: None,
+            algorithm: None,
         }
     }
 }

@@ -68,9 +68,7 @@ impl Light {
     /// The shade factor s in [0, 1] at `origin`: the fraction of the shadow
     /// rays towards this light that `reaches(unit direction, distance to
     /// the light)` lets through. A point light takes one ray; an area light
-    /// `samples`, stratified (a jittered grid over a square light,
-    /// directions stratified in the cone a sphere light subtends). Returns
-    /// s and the number of rays.
+    /// `samples` (see [`Light::for_each_sample`]). Returns s and the number of rays.
     pub(crate) fn shade(
         &self,
         origin: DVec3,
@@ -85,29 +83,87 @@ impl Light {
                 let blocked = dist > 0.0 && !reaches(to / dist, dist);
                 (if blocked { 0.0 } else { 1.0 }, 1)
             }
+            LightKind::Sphere { center, radius }
+                if (center - origin).length_squared() <= radius * radius =>
+            {
+                (1.0, 0) // inside the light: nothing can block it
+            }
+            _ => {
+                let mut lit = 0u32;
+                let n = self.for_each_sample(origin, samples, rng, |dir, dist| {
+                    if dist > 0.0 && reaches(dir, dist) {
+                        lit += 1;
+                    }
+                });
+                (lit as f64 / n.max(1) as f64, n as u64)
+            }
+        }
+    }
+
+    /// The mean over this light's shadow samples from `origin` of
+    /// `weight(unit direction, distance)` where `reaches` lets the sample
+    /// through (a sample of weight 0 is not traced): the 1/d² lineages'
+    /// direct light. Returns the mean and the number of rays traced.
+    pub(crate) fn shade_weighted(
+        &self,
+        origin: DVec3,
+        samples: u32,
+        rng: &mut impl Rng,
+        mut reaches: impl FnMut(DVec3, f64) -> bool,
+        mut weight: impl FnMut(DVec3, f64) -> f64,
+    ) -> (f64, u64) {
+        let mut sum = 0.0;
+        let mut rays = 0u64;
+        let n = self.for_each_sample(origin, samples, rng, |dir, dist| {
+            if dist <= 0.0 {
+                return;
+            }
+            let w = weight(dir, dist);
+            if w > 0.0 {
+                rays += 1;
+                if reaches(dir, dist) {
+                    sum += w;
+                }
+            }
+        });
+        (sum / n.max(1) as f64, rays)
+    }
+
+    /// Calls `each(unit direction, distance)` for each shadow sample from
+    /// `origin` (a zero distance comes with an arbitrary direction);
+    /// returns their number. A point light has one; an area light
+    /// `samples`, stratified: a jittered grid over a square light,
+    /// directions stratified in the cone a sphere light subtends (none from
+    /// inside it).
+    pub(crate) fn for_each_sample(
+        &self,
+        origin: DVec3,
+        samples: u32,
+        rng: &mut impl Rng,
+        mut each: impl FnMut(DVec3, f64),
+    ) -> u32 {
+        match self.kind {
+            LightKind::Point { pos } => {
+                toward(origin, pos, &mut each);
+                1
+            }
             LightKind::Square { center, dx, dy } => {
                 let (rows, cols) = strata(samples);
                 let (cell_a, cell_b) = (2.0 / cols as f64, 2.0 / rows as f64);
-                let mut lit = 0u32;
                 for r in 0..rows {
                     for c in 0..cols {
                         let a = (c as f64 + rng.random::<f64>()) * cell_a - 1.0;
                         let b = (r as f64 + rng.random::<f64>()) * cell_b - 1.0;
-                        let to = center + dx * a + dy * b - origin;
-                        let dist = to.length();
-                        if dist > 0.0 && reaches(to * (1.0 / dist), dist) {
-                            lit += 1;
-                        }
+                        toward(origin, center + dx * a + dy * b, &mut each);
                     }
                 }
-                let n = rows * cols;
-                (lit as f64 / n as f64, n as u64)
+                rows * cols
             }
             LightKind::Sphere { center, radius } => {
                 let to = center - origin;
                 let d2 = to.length_squared();
                 if d2 <= radius * radius {
-                    return (1.0, 0); // inside the light: nothing can block it
+                    return 0;
                 }
                 let dist = d2.sqrt();
                 let w = to / dist;
@@ -116,7 +172,6 @@ impl Light {
                 let sphere = Sphere::new(center, radius);
                 let tangent = (d2 - radius * radius).max(0.0).sqrt();
                 let (rows, cols) = strata(samples);
-                let mut lit = 0u32;
                 for r in 0..rows {
                     for c in 0..cols {
                         // Uniform in solid angle over the cone: cos θ uniform in [cos_max, 1].
@@ -130,14 +185,24 @@ impl Light {
                         let t_light = sphere
                             .roots(&Ray::new(origin, dir))
                             .map_or(tangent, |(t0, _)| t0);
-                        if reaches(dir, t_light) {
-                            lit += 1;
-                        }
+                        each(dir, t_light);
                     }
                 }
-                let n = rows * cols;
-                (lit as f64 / n as f64, n as u64)
+                rows * cols
             }
         }
     }
+}
+
+/// Calls `each` with the unit direction and distance from `origin` to `p`.
+#[inline(always)]
+fn toward(origin: DVec3, p: DVec3, each: &mut impl FnMut(DVec3, f64)) {
+    let to = p - origin;
+    let dist = to.length();
+    let dir = if dist > 0.0 {
+        to * (1.0 / dist)
+    } else {
+        DVec3::Z
+    };
+    each(dir, dist);
 }

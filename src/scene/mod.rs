@@ -7,6 +7,7 @@
 mod background;
 mod camera;
 mod diagnostic;
+mod dialect;
 mod escape;
 mod light;
 mod material;
@@ -16,6 +17,7 @@ mod texture;
 pub use background::Background;
 pub use camera::{Camera, DepthOfField, MAX_IMAGE_SIDE, PhotonSettings};
 pub use diagnostic::{Diagnostic, SceneError, Severity};
+pub use dialect::{Dialect, DialectChoice};
 pub use escape::escaped;
 pub use light::{Light, LightKind};
 pub use material::Material;
@@ -54,6 +56,8 @@ pub struct Scene {
     block_lines: Vec<u32>,
     /// The 1-based line of each light's header, by light index (0: unknown).
     light_lines: Vec<u32>,
+    /// The lineage whose renderer's model draws it, and why.
+    dialect: DialectChoice,
 }
 
 impl Scene {
@@ -71,7 +75,28 @@ impl Scene {
             notes: Vec::new(),
             block_lines: Vec::new(),
             light_lines: Vec::new(),
+            dialect: DialectChoice::default(),
         }
+    }
+
+    /// The dialect it is drawn in, and the rule that chose it.
+    pub fn dialect(&self) -> &DialectChoice {
+        &self.dialect
+    }
+
+    /// Sets the dialect it is drawn in (a scene built in code is the framework's).
+    pub fn set_dialect(&mut self, dialect: DialectChoice) {
+        self.dialect = dialect;
+    }
+
+    /// Every object's shape, to adapt a file read by the framework's rules to its lineage.
+    pub(crate) fn shapes_mut(&mut self) -> impl Iterator<Item = &mut Shape> {
+        self.objects.iter_mut().map(|o| &mut o.shape)
+    }
+
+    /// The textures, to adapt to a lineage's way of reading images.
+    pub(crate) fn textures_mut(&mut self) -> &mut [Texture] {
+        &mut self.textures
     }
 
     /// The file it was read from (`None` when parsed from a string or built in code).

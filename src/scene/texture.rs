@@ -9,6 +9,8 @@ pub struct Texture {
     height: usize,
     /// Rows bottom-up: row 0 is the bottom of the picture (BMP order).
     texels: Vec<[f32; 3]>,
+    /// Whether coordinates wrap at the seam (else they clamp at the edges).
+    wraps: bool,
 }
 
 impl Texture {
@@ -19,7 +21,28 @@ impl Texture {
             width,
             height,
             texels,
+            wraps: true,
         }
+    }
+
+    /// Re-reads texels decoded as byte/255 as byte/`divisor` (the
+    /// framework divides its bytes by 256).
+    pub(crate) fn set_byte_divisor(&mut self, divisor: f32) {
+        if divisor == 255.0 {
+            return;
+        }
+        for t in &mut self.texels {
+            *t = t.map(|c| (c * 255.0).round() / divisor);
+        }
+    }
+
+    /// Turns the rows upside down and clamps coordinates at the edges
+    /// instead of wrapping (a lineage that loads images top row first).
+    pub(crate) fn flip_clamped(&mut self) {
+        let w = self.width;
+        let rows: Vec<&[[f32; 3]]> = self.texels.chunks(w.max(1)).rev().collect();
+        self.texels = rows.concat();
+        self.wraps = false;
     }
 
     /// Width in texels.
@@ -35,8 +58,8 @@ impl Texture {
     /// The framework's `texture(u, v)`: u selects the row (from the bottom),
     /// v the column; texel k sits at coordinate k; both directions wrap.
     pub fn sample(&self, uv: DVec2) -> DVec3 {
-        let (r0, r1, fr) = wrap(uv.x, self.height);
-        let (c0, c1, fc) = wrap(uv.y, self.width);
+        let (r0, r1, fr) = wrap(uv.x, self.height, self.wraps);
+        let (c0, c1, fc) = wrap(uv.y, self.width, self.wraps);
         let at = |r: usize, c: usize| {
             let t = self.texels[r * self.width + c];
             DVec3::new(t[0] as f64, t[1] as f64, t[2] as f64)
@@ -47,14 +70,20 @@ impl Texture {
     }
 }
 
-/// The two texel indices around coordinate `x · n` (wrapping) and the blend weight.
+/// The two texel indices around coordinate `x · n` (its fraction: the
+/// texture repeats) and the blend weight; past the last texel the next is
+/// the first when `wraps`, else the last again.
 #[inline]
-fn wrap(x: f64, n: usize) -> (usize, usize, f64) {
+fn wrap(x: f64, n: usize, wraps: bool) -> (usize, usize, f64) {
     let f = x - x.floor();
     let s = if f.is_finite() { f * n as f64 } else { 0.0 };
     let k = s.floor();
     let i0 = (k as usize).min(n - 1);
-    let i1 = if i0 + 1 == n { 0 } else { i0 + 1 };
+    let i1 = match (i0 + 1 == n, wraps) {
+        (false, _) => i0 + 1,
+        (true, true) => 0,
+        (true, false) => i0,
+    };
     (i0, i1, s - k)
 }
 

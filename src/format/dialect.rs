@@ -1,0 +1,289 @@
+//! Choosing a file's dialect (`lineages.md` §5): the reader records the
+//! markers each lineage leaves (header types, telling keys, spheres resting
+//! on planes) as it goes; once the whole file is read, the first rule that
+//! matches decides, and the scene is adapted to that lineage's reading of
+//! it (camera defaults, plane sign, texel scale).
+
+use crate::geometry::Shape;
+use crate::scene::{Camera, Dialect, DialectChoice, Scene};
+use glam::DVec3;
+
+/// The brightest light colour component from which a 1/d² lineage is hinted.
+const BRIGHT: f64 = 5.0;
+/// A sphere rests on a plane when its centre's distance from it is its
+/// radius to within this share of the radius.
+const RESTING: f64 = 0.01;
+
+/// What the file shows of its lineage, as read so far (lines 0-based).
+#[derive(Debug, Default)]
+pub(crate) struct Evidence {
+    /// An `object` header (W's blocks).
+    object: Option<usize>,
+    /// A camera `Dx=` (W's camera).
+    camera_dx: Option<usize>,
+    /// A `primitive polyhedron` (PM3).
+    polyhedron: Option<usize>,
+    /// V's primitives or keys: what and where.
+    v_marker: Option<(usize, String)>,
+    /// A camera `algorithm=` (PM3 and V).
+    algorithm: Option<usize>,
+    /// A `light area` or `primitive rectangle`: what and where.
+    area: Option<(usize, &'static str)>,
+    /// The first of the framework's own types or keys: what and where.
+    f_marker: Option<(usize, String)>,
+    /// Sphere centres and radii.
+    spheres: Vec<(DVec3, f64)>,
+    /// Plane unit normals and `R=` values.
+    planes: Vec<(DVec3, f64)>,
+    /// The largest colour component of any light.
+    brightest: f64,
+    /// The camera keys the file sets.
+    camera_keys: Vec<&'static str>,
+}
+
+impl Evidence {
+    /// A block that opens with `head` (`primitive`, `light`, `object`...)
+    /// and type `kind` at `line`, with the keys `keys` (as written).
+    pub fn block<'k>(
+        &mut self,
+        line: usize,
+        head: &str,
+        kind: Option<&str>,
+        keys: impl Iterator<Item = &'k str> + Clone,
+    ) {
+        let has = |k: &str| keys.clone().any(|x| x == k);
+        let first = |slot: &mut Option<usize>| {
+            slot.get_or_insert(line);
+        };
+        if head == "object" {
+            first(&mut self.object);
+        }
+        let kind = kind.unwrap_or("");
+        let primitive = head == "primitive" || head == "object";
+        match (head, kind) {
+            ("camera", _) => {
+                if has("Dx") {
+                    first(&mut self.camera_dx);
+                }
+                if has("algorithm") {
+                    first(&mut self.algorithm);
+                }
+            }
+            ("background", _) if has("top") || has("bottom") => {
+                self.f_mark(line, "background `top=`/`bottom=`".to_string());
+            }
+            ("light", "area") => {
+                self.area.get_or_insert((line, "light area"));
+            }
+            ("light", "square" | "sphere") => self.f_mark(line, format!("light {kind}")),
+            (_, "rectangle") if primitive => {
+                self.area.get_or_insert((line, "primitive rectangle"));
+            }
+            (_, "polyhedron") if primitive => first(&mut self.polyhedron),
+            (_, "Bezier" | "NomalBall" | "NomalPlane") if primitive => {
+                self.v_mark(line, format!("primitive {kind}"));
+            }
+            // Z17's triangle and tensor-product bezier are not the framework's.
+            (_, "triangle") if primitive && has("P0") => {}
+            (_, "bezier") if primitive && has("newPoint") => {}
+            (_, "square" | "cylinder" | "bezier" | "triangle" | "mesh" | "cube") if primitive => {
+                self.f_mark(line, format!("primitive {kind}"));
+            }
+            _ => {}
+        }
+        for key in ["NT", "ratio"] {
+            if has(key) {
+                self.v_mark(line, format!("key `{key}=`"));
+            }
+        }
+    }
+
+    fn f_mark(&mut self, line: usize, what: String) {
+        self.f_marker.get_or_insert((line, what));
+    }
+
+    fn v_mark(&mut self, line: usize, what: String) {
+        self.v_marker.get_or_insert((line, what));
+    }
+
+    /// A sphere with centre `o` and radius `r`.
+    pub fn sphere(&mut self, o: DVec3, r: f64) {
+        self.spheres.push((o, r));
+    }
+
+    /// A plane with unit normal `n` and `R=` value `r`.
+    pub fn plane(&mut self, n: DVec3, r: f64) {
+        self.planes.push((n, r));
+    }
+
+    /// A light of colour `c`.
+    pub fn light(&mut self, c: DVec3) {
+        self.brightest = self.brightest.max(c.max_element());
+    }
+
+    /// The camera sets key `key`.
+    pub fn camera_key(&mut self, key: &'static str) {
+        if !self.camera_keys.contains(&key) {
+            self.camera_keys.push(key);
+        }
+    }
+
+    /// Spheres resting on planes read as N·P + R = 0 (PM3) and as N·P = R (V).
+    fn resting(&self) -> (usize, usize) {
+        let count = |sign: f64| {
+            let mut n = 0;
+            for &(o, rs) in &self.spheres {
+                for &(pn, r) in &self.planes {
+                    if ((pn.dot(o) + sign * r).abs() - rs).abs() <= RESTING * rs {
+                        n += 1;
+                    }
+                }
+            }
+            n
+        };
+        (count(1.0), count(-1.0))
+    }
+
+    /// The dialect rules 2–7 pick, with the reason, and a hint when the
+    /// default decided although the lights look like a 1/d² lineage's.
+    fn rules(&self) -> (DialectChoice, Option<String>) {
+        let at = |line: usize| format!("at line {}", line + 1);
+        let choice = |dialect, reason: String| {
+            (
+                DialectChoice {
+                    dialect,
+                    reason,
+                    caveat: None,
+                },
+                None,
+            )
+        };
+        if let Some(l) = self.object {
+            return choice(Dialect::W, format!("an `object` block {}", at(l)));
+        }
+        if let Some(l) = self.camera_dx {
+            return choice(Dialect::W, format!("camera `Dx=` {}", at(l)));
+        }
+        if let Some(l) = self.polyhedron {
+            return choice(Dialect::Pm3, format!("primitive polyhedron {}", at(l)));
+        }
+        if let Some((l, what)) = &self.v_marker {
+            return choice(Dialect::V, format!("{what} {}", at(*l)));
+        }
+        if let Some(l) = self.algorithm {
+            let (pm3, v) = self.resting();
+            let counted = format!(
+                "camera `algorithm=` {}, spheres resting on planes: {pm3} as N·P + R = 0 (pm3), {v} as N·P = R (v)",
+                at(l)
+            );
+            return if pm3 > v {
+                choice(Dialect::Pm3, counted)
+            } else if v > pm3 {
+                choice(Dialect::V, counted)
+            } else {
+                choice(Dialect::V, format!("{counted}; plane sign undecided"))
+            };
+        }
+        if let (Some((l, what)), None) = (self.area, &self.f_marker) {
+            return choice(Dialect::Z14, format!("{what} {}", at(l)));
+        }
+        if let Some((l, what)) = &self.f_marker {
+            return choice(Dialect::F, format!("{what} {}", at(*l)));
+        }
+        let hint = (self.brightest >= BRIGHT)
+            .then(|| "bright lights suggest a 1/d² lineage; try --dialect z14".to_string());
+        (
+            DialectChoice {
+                dialect: Dialect::F,
+                reason: "no lineage's marker, the framework by default".to_string(),
+                caveat: None,
+            },
+            hint,
+        )
+    }
+
+    /// The dialect of the file (`forced` by the user, or by the rules),
+    /// and a warning to give: the rules disagree with the user, or a hint.
+    pub fn choose(&self, forced: Option<Dialect>) -> (DialectChoice, Option<String>) {
+        let (ruled, hint) = self.rules();
+        match forced {
+            None => (ruled, hint),
+            Some(d) => {
+                let warning = (d != ruled.dialect).then(|| {
+                    format!(
+                        "--dialect {d} overrides the file's markers, which read as {}",
+                        ruled
+                    )
+                });
+                (
+                    DialectChoice {
+                        dialect: d,
+                        reason: "chosen by --dialect".to_string(),
+                        caveat: None,
+                    },
+                    warning,
+                )
+            }
+        }
+    }
+
+    /// Gives the camera keys the file leaves unset dialect `d`'s defaults.
+    fn camera_defaults(&self, d: Dialect, cam: &mut Camera) {
+        let unset = |k: &str| !self.camera_keys.contains(&k);
+        if !matches!(d, Dialect::Pm3 | Dialect::V) {
+            return;
+        }
+        if unset("drefl_quality") {
+            cam.drefl_quality = 20;
+        }
+        let p = &mut cam.photons;
+        for (key, slot, value) in [
+            ("max_photons", &mut p.max_photons, 500_000),
+            ("emit_photons", &mut p.emit_photons, 100_000),
+            ("sample_photons", &mut p.sample_photons, 10),
+        ] {
+            if unset(key) {
+                *slot = value;
+            }
+        }
+        if unset("sample_dist") {
+            p.sample_dist = 0.1;
+        }
+        p.max_hitpoints.get_or_insert(4_000_000);
+        p.iterations.get_or_insert(5000);
+        p.reduction.get_or_insert(0.7);
+        if unset("dofSample") {
+            cam.dof.samples = 64;
+        }
+        if unset("focalLen") {
+            cam.dof.focal_len = 1.0;
+        }
+    }
+
+    /// Adapts `scene`, read by the framework's rules, to dialect `d`.
+    pub fn adapt(&self, d: Dialect, scene: &mut Scene) {
+        let mut cam = scene.camera().clone();
+        self.camera_defaults(d, &mut cam);
+        scene.set_camera(cam);
+        if d == Dialect::Pm3 {
+            // PM3's planes are N·P + R = 0; its textures are offset by half a tile.
+            for shape in scene.shapes_mut() {
+                if let Shape::Plane(p) = shape {
+                    p.offset = -p.offset;
+                    p.uv_shift = 0.5;
+                }
+            }
+        }
+        let (divisor, flipped) = match d {
+            Dialect::F | Dialect::Z14 => (256.0, false),
+            Dialect::Pm3 | Dialect::V => (255.0, false),
+            Dialect::W => (255.0, true),
+        };
+        for t in scene.textures_mut() {
+            t.set_byte_divisor(divisor);
+            if flipped {
+                t.flip_clamped();
+            }
+        }
+    }
+}

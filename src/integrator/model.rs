@@ -1,0 +1,164 @@
+//! Each lineage's shading model (`lineages.md` §3.1) as data, fixed per
+//! render from the scene's dialect: the tracer reads these fields, no
+//! dialect is looked at per ray.
+
+use crate::scene::{Camera, Dialect};
+
+/// How the light of one light source reaches a diffuse hit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Direct {
+    /// The framework: L towards the light's centre, times the shade factor;
+    /// diffuse L·N and specular (L·N)^20, counted where L·N exceeds `min_dot`.
+    Centre,
+    /// The 1/d² lineages: per shadow sample, c·(diff·N·L + spec·(R·L)^50)/d²
+    /// (without the specular term when `specular` is false).
+    Falloff {
+        /// Whether the eye-hit specular spec·(R_I·L)^50 is added.
+        specular: bool,
+    },
+}
+
+/// How glossy reflections are sampled.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Glossy {
+    /// The framework's `exp` blur (scene-format.md).
+    Exp,
+    /// The lineages' disk: R + drefl²·(x·e1 + y·e2), (x, y) uniform in
+    /// the unit disk; beyond depth 2 a plain mirror.
+    Disk,
+    /// No glossy reflection: `drefl=` is not read.
+    Mirror,
+}
+
+/// Which side of a surface a ray is on, for refraction and absorption.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Inside {
+    /// Inside when the ray meets the surface's back face.
+    FrontFace,
+    /// A flag toggled at each actual refraction (Z17, PM3, V).
+    Parity,
+}
+
+/// What a camera ray sees of an emitter's surface.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Emitter {
+    /// Its colour, clamped to 1.
+    Clamped,
+    /// Its colour divided by its largest component.
+    Normalised,
+}
+
+/// Which pixels get more camera rays, and which.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum AntiAlias {
+    /// The framework's 7×7 grid where the hash differs from a neighbour's.
+    Grid7,
+    /// PM3's and V's: (c + the four rays ⅓ px away along each axis) / 5
+    /// where the hash differs from a neighbour's.
+    Cross5,
+    /// One ray per pixel.
+    None,
+}
+
+/// How camera rays leave the eye.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Lens {
+    /// The framework's: N + Dy·(2i/H − 1) + Dx·(2j/W − 1).
+    Framework,
+    /// PM3's and V's: N + Dy·lens_H·(i/(H−1) − ½) + Dx·lens_W·(j/(W−1) − ½).
+    Spanned,
+    /// W's: N + Dy·2i/H + Dx·2j/W, i from the top, Dx the user's `Dx=`.
+    Corner,
+}
+
+/// One lineage's shading model.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Model {
+    /// How direct light is computed.
+    pub direct: Direct,
+    /// Whether diff·k·background is added at a diffuse hit.
+    pub ambient: bool,
+    /// Whether a specular-only material gets the light term (else only diff > 0 does).
+    pub lit_by_specular: bool,
+    /// The light term counts where L·N exceeds this (framework: 0; W: 10⁻⁶).
+    pub min_dot: f64,
+    /// Glossy sampling.
+    pub glossy: Glossy,
+    /// Glossy rays per reflection.
+    pub glossy_samples: u32,
+    /// Whether every ray's colour is clamped to 1 (else the camera ray's only).
+    pub clamp_every_ray: bool,
+    /// A ray deeper than this returns black (the camera ray has depth 1).
+    pub max_depth: u32,
+    /// The refraction side rule.
+    pub inside: Inside,
+    /// Whether a texture replaces the colour (else multiplies it).
+    pub texture_replaces: bool,
+    /// What an emitter's surface shows.
+    pub emitter: Emitter,
+    /// Whether reflection and refraction rays are traced (V's `algorithm= RC` traces none).
+    pub secondary: bool,
+    /// Anti-aliasing.
+    pub anti_alias: AntiAlias,
+    /// The camera's lens formula.
+    pub lens: Lens,
+}
+
+impl Model {
+    /// The model of dialect `d`, with `camera`'s quality keys (and V's `algorithm=`).
+    pub fn of(d: Dialect, camera: &Camera) -> Model {
+        let dq = camera.drefl_quality.max(1);
+        let f = Model {
+            direct: Direct::Centre,
+            ambient: false,
+            lit_by_specular: true,
+            min_dot: 0.0,
+            glossy: Glossy::Exp,
+            glossy_samples: 16 * dq,
+            clamp_every_ray: true,
+            max_depth: 10,
+            inside: Inside::FrontFace,
+            texture_replaces: false,
+            emitter: Emitter::Clamped,
+            secondary: true,
+            anti_alias: AntiAlias::Grid7,
+            lens: Lens::Framework,
+        };
+        let lineage = Model {
+            direct: Direct::Falloff { specular: true },
+            ambient: true,
+            lit_by_specular: false,
+            glossy: Glossy::Disk,
+            clamp_every_ray: false,
+            ..f
+        };
+        match d {
+            Dialect::F => f,
+            Dialect::Z14 => Model {
+                direct: Direct::Falloff { specular: false },
+                anti_alias: AntiAlias::None,
+                ..lineage
+            },
+            Dialect::Pm3 | Dialect::V => Model {
+                glossy_samples: dq,
+                max_depth: 20,
+                inside: Inside::Parity,
+                emitter: Emitter::Normalised,
+                secondary: !(d == Dialect::V && camera.algorithm.as_deref() == Some("RC")),
+                anti_alias: AntiAlias::Cross5,
+                lens: Lens::Spanned,
+                ..lineage
+            },
+            Dialect::W => Model {
+                ambient: true,
+                min_dot: 1e-6,
+                glossy: Glossy::Mirror,
+                max_depth: 5,
+                texture_replaces: true,
+                anti_alias: AntiAlias::None,
+                lens: Lens::Corner,
+                ..f
+            },
+        }
+    }
+}
