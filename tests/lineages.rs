@@ -252,6 +252,7 @@ fn rectangle_matches_the_plane_and_its_two_ranges() {
         total += rays.len();
     }
     let _ = std::fs::remove_dir_all(&dir);
+    eprintln!("rectangle: {hits} hits, {misses} misses of {total} rays");
     assert!(
         hits > total / 5 && misses > total / 5,
         "{hits} hits, {misses} misses of {total}"
@@ -690,4 +691,45 @@ fn v_bezier_matches_a_scan_of_its_profile() {
         hits > total / 2 && misses > total / 10,
         "{hits} hits, {misses} misses of {total}"
     );
+}
+
+// ---------------------------------------------------------------- normal maps, rendered
+
+/// A `NomalPlane` facing the camera under a point light, its normal map one
+/// colour: the centre pixel is diff·(L·N′) with N′ worked out by hand. The
+/// plane N = −ŷ is vertical, so its frame is the spec's fix: red
+/// unit(N × ẑ) = −x̂, green N × red = −ẑ; texel bytes (64, 200, 230) give
+/// n = 2·b/255 − 1 and N′ = unit(n_b·N − n_r·x̂ − n_g·ẑ). Without the map the
+/// pixel would be L·N = 1/√2.
+#[test]
+fn normal_mapped_plane_shades_with_the_perturbed_normal() {
+    let dir = temp_dir("render");
+    let bytes = [64u8, 200, 230];
+    image::RgbImage::from_pixel(2, 2, image::Rgb(bytes))
+        .save(dir.join("n.bmp"))
+        .unwrap();
+    let text = "camera\n O= 0 0 0\n N= 0 1 0\n image_W= 21\n image_H= 21\nend\n\
+                light point\n O= 0 0 5\n color= 1 1 1\nend\n\
+                primitive NomalPlane\n N= 0 -1 0\n R= -5\n color= 1 1 1\n diff= 1\n NT= n.bmp\nend\n";
+    let scene = glint::Scene::parse(text, &dir).unwrap();
+    let renderer = glint::Renderer::new(scene);
+    let options = glint::RenderOptions {
+        spp: Some(1),
+        ..glint::RenderOptions::default()
+    };
+    let image = renderer.render(&options).unwrap().into_image();
+    let n = DVec3::from_array(bytes.map(|b| 2.0 * f64::from(b) / 255.0 - 1.0));
+    let shading = (DVec3::new(0.0, -1.0, 0.0) * n.z - DVec3::X * n.x - DVec3::Z * n.y).normalize();
+    // The centre pixel's ray meets the plane at (0, 5, 0); L = unit((0, −5, 5)).
+    let l = DVec3::new(0.0, -1.0, 1.0).normalize();
+    let want = l.dot(shading);
+    assert!(
+        want > 0.0 && (want - l.dot(-DVec3::Y)).abs() > 0.05,
+        "{want}"
+    );
+    let got = image.pixel(10, 10);
+    for c in got {
+        assert!((f64::from(c) - want).abs() < 1e-6, "{got:?} vs {want}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }
