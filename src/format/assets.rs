@@ -2,11 +2,9 @@
 //! file first, then in the working directory, and loaded once each.
 
 use super::diags::{Diags, Site};
-use super::limits::not_regular;
-use super::obj::load_obj;
-use crate::geometry::Triangle;
+use super::limits::{Limits, not_regular, open_regular, read_bounded};
+use super::obj::{LoadedObj, Placement, load_placed};
 use crate::scene::Texture;
-use glam::DVec3;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -26,16 +24,6 @@ enum Unusable {
     NotFound(Vec<PathBuf>),
     /// Something that is not a regular file (a directory, a FIFO): where, and what.
     NotRegular(PathBuf, &'static str),
-}
-
-/// How a `primitive mesh` block places its OBJ file's vertices.
-pub(crate) struct Placement {
-    /// `O=`.
-    pub origin: DVec3,
-    /// `scale=`, per axis.
-    pub scale: DVec3,
-    /// `rotation=` about x, y, z (radians).
-    pub rotation: DVec3,
 }
 
 impl<'p> Assets<'p> {
@@ -154,14 +142,34 @@ impl<'p> Assets<'p> {
         }
     }
 
-    /// The triangles of mesh file `name` (named at `site`), placed by `at`.
+    /// Describes why a file named in the scene cannot be used, for errors
+    /// that are not reported at once (an MTL file an OBJ file names).
+    fn unusable_text(what: &str, name: &str, why: &Unusable) -> String {
+        match why {
+            Unusable::NotRegular(path, why) => {
+                format!("{what} file `{name}` ({}) {why}", path.display())
+            }
+            Unusable::NotFound(tried) => {
+                let tried = tried
+                    .iter()
+                    .map(|p| format!("`{}`", p.display()))
+                    .collect::<Vec<_>>()
+                    .join(" and ");
+                format!("{what} file `{name}` not found (looked for {tried})")
+            }
+        }
+    }
+
+    /// The triangles of mesh file `name` (named at `site`), placed by `at`;
+    /// with `at.lineage`, also its texture coordinates and the materials of
+    /// the MTL files it names (looked up like the mesh itself).
     pub fn mesh(
         &mut self,
         name: &str,
         site: Site,
         at: &Placement,
         diags: &mut Diags,
-    ) -> Option<Vec<Triangle>> {
+    ) -> Option<LoadedObj> {
         let (path, found) = match self.resolve(name) {
             Ok(p) => p,
             Err(why) => {
@@ -169,18 +177,23 @@ impl<'p> Assets<'p> {
                 return None;
             }
         };
-        match load_obj(&path, at.origin, at.scale, at.rotation) {
-            Ok(triangles) => {
+        let read_mtl = |file: &str| -> Result<Vec<u8>, String> {
+            let (p, _) = self
+                .resolve(file)
+                .map_err(|why| Self::unusable_text("material", file, &why))?;
+            let f = open_regular(&p).map_err(|e| format!("cannot open `{}`: {e}", p.display()))?;
+            read_bounded(f, Limits::DEFAULT)
+                .map_err(|e| format!("cannot read `{}`: {e}", p.display()))
+        };
+        match load_placed(&path, at, Some(&read_mtl)) {
+            Ok(loaded) => {
                 self.notes.push(format!(
                     "line {}: mesh `{name}` found {found}: {} ({} triangles)",
                     site.line + 1,
                     path.display(),
-                    triangles.len()
+                    loaded.triangles.len()
                 ));
-                if triangles.is_empty() {
-                    diags.warn(site, format!("mesh `{name}` has no triangles"), None);
-                }
-                Some(triangles)
+                Some(loaded)
             }
             Err(e) => {
                 diags.error(
@@ -226,7 +239,7 @@ fn texture_from(img: image::DynamicImage) -> Result<Texture, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::DVec2;
+    use glam::{DVec2, DVec3};
 
     #[test]
     fn bmp_rows_are_bottom_up() -> Result<(), Box<dyn std::error::Error>> {

@@ -225,6 +225,7 @@ pub(crate) fn material(
         rindex: num("rindex", 0.0),
         absor: f.v3("absor").map_or(DVec3::ZERO, |(v, _)| v),
         texture: None,
+        normal_map: None,
     };
     if let Some((drefl, site)) = f.num("drefl")
         && drefl > 0.0
@@ -264,6 +265,10 @@ pub(crate) fn material(
     if let Some((name, site)) = b.fields.text("texture") {
         let name = name.to_string();
         m.texture = Some(assets.texture(&name, site, b.diags, add_texture)?);
+    }
+    if let Some((name, site)) = b.fields.text("NT") {
+        let name = name.to_string();
+        m.normal_map = Some(assets.texture(&name, site, b.diags, add_texture)?);
     }
     Some(m)
 }

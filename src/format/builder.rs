@@ -9,10 +9,10 @@ use super::blocks;
 use super::diags::{Diags, Site};
 use super::dialect::Evidence;
 use super::lexer::Word;
-use super::schema::{BlockKind, Build, is_known_key};
+use super::schema::{BlockKind, Build, PrimitiveBuild, is_known_key};
 use super::suggest::closest;
 use super::values::{Entry, Fields, parse_entry};
-use crate::scene::{Dialect, DialectChoice, Light, Scene};
+use crate::scene::{Dialect, DialectChoice, Light, MaterialId, Scene};
 use glam::DVec3;
 use std::path::Path;
 
@@ -190,27 +190,43 @@ impl<'p> Builder<'p> {
         }
     }
 
-    /// A primitive: its material, then its kind's shapes, added as block `index`.
-    fn primitive(
-        &mut self,
-        build: fn(&mut Assets, &mut Block<'_>) -> super::shapes::Shapes,
-        index: u32,
-        b: &mut Block<'_>,
-    ) {
+    /// A primitive: its material, then its kind's shapes (some with
+    /// materials of their own), added as block `index`.
+    fn primitive(&mut self, build: PrimitiveBuild, index: u32, b: &mut Block<'_>) {
         let errors = b.diags.error_count();
         let scene = &mut self.scene;
         let material = blocks::material(&mut self.assets, b, &mut |t| scene.add_texture(t));
-        let shapes = build(&mut self.assets, b);
+        let built = build(&mut self.assets, b, &mut |t| scene.add_texture(t));
         if b.diags.error_count() != errors {
             return;
         }
-        if let (Some(m), Some(shapes)) = (material, shapes) {
-            let m = self.scene.add_material(m);
-            for s in shapes {
-                self.scene.add_object(s, m, index);
-            }
-            self.scene.set_block_line(index, header_line(b.header));
+        let (Some(mut m), Some(built)) = (material, built) else {
+            return;
+        };
+        if m.normal_map.is_some()
+            && let Some(shape) = built.shapes.iter().find(|s| !s.takes_normal_map())
+        {
+            let site = b.fields.text("NT").map_or(b.header, |(_, s)| s);
+            let kind = shape.kind_name();
+            b.diags.warn(
+                site,
+                format!("a {kind} has no tangent frame to read a normal map (`NT=`) in; ignored"),
+                None,
+            );
+            m.normal_map = None;
         }
+        let m = self.scene.add_material(m);
+        let own: Vec<MaterialId> = built
+            .materials
+            .iter()
+            .map(|o| self.scene.add_material(*o))
+            .collect();
+        for (k, s) in built.shapes.into_iter().enumerate() {
+            let of = built.material_of.get(k).copied().flatten();
+            let id = of.and_then(|i| own.get(i as usize)).copied().unwrap_or(m);
+            self.scene.add_object(s, id, index);
+        }
+        self.scene.set_block_line(index, header_line(b.header));
     }
 }
 

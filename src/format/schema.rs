@@ -22,6 +22,7 @@ const MATERIAL_KEYS: Keys = &[
     ("rindex", Num),
     ("absor", Vec3),
     ("texture", Text),
+    ("NT", Text),
 ];
 
 const BACKGROUND_KEYS: Keys = &[("color", Vec3), ("top", Vec3), ("bottom", Vec3)];
@@ -57,6 +58,9 @@ const SPHERE_LIGHT_KEYS: Keys = &[("O", Vec3), ("R", Num)];
 const SPHERE_KEYS: Keys = &[("O", Vec3), ("R", Num), ("De", Vec3), ("Dc", Vec3)];
 const PLANE_KEYS: Keys = &[("N", Vec3), ("R", Num), ("Dx", Vec3), ("Dy", Vec3)];
 const SQUARE_KEYS: Keys = &[("O", Vec3), ("Dx", Vec3), ("Dy", Vec3)];
+// `size=` (F's scene4 cube), `N= H=` (its cylinder), `N= M= newPoint=`
+// (Z17's patch) and `R_major= R_minor=` (scene4's torus) are read only to
+// skip those blocks, so their values are taken as text.
 const CUBE_KEYS: Keys = &[
     ("O", Vec3),
     ("Dx", Vec3),
@@ -64,9 +68,40 @@ const CUBE_KEYS: Keys = &[
     ("x", Num),
     ("y", Num),
     ("z", Num),
+    ("size", Text),
 ];
-const CYLINDER_KEYS: Keys = &[("O1", Vec3), ("O2", Vec3), ("R", Num)];
-const BEZIER_KEYS: Keys = &[("O1", Vec3), ("O2", Vec3), ("P", Vec2)];
+const CYLINDER_KEYS: Keys = &[
+    ("O1", Vec3),
+    ("O2", Vec3),
+    ("R", Num),
+    ("O", Text),
+    ("N", Text),
+    ("H", Text),
+];
+const BEZIER_KEYS: Keys = &[
+    ("O1", Vec3),
+    ("O2", Vec3),
+    ("P", Vec2),
+    ("N", Text),
+    ("M", Text),
+    ("newPoint", Text),
+];
+const TORUS_KEYS: Keys = &[
+    ("O", Text),
+    ("N", Text),
+    ("R_major", Text),
+    ("R_minor", Text),
+];
+const RECTANGLE_KEYS: Keys = &[("N", Vec3), ("R", Num), ("Dx", Vec3), ("Dy", Vec3)];
+const POLYHEDRON_KEYS: Keys = &[
+    ("mesh", Text),
+    ("O", Vec3),
+    ("size", Vec3),
+    ("angles", Vec3),
+];
+const NOMAL_BALL_KEYS: Keys = SPHERE_KEYS;
+const NOMAL_PLANE_KEYS: Keys = PLANE_KEYS;
+const LINEAGE_BEZIER_KEYS: Keys = &[("O", Vec3), ("R", Num), ("ratio", Num)];
 const TRIANGLE_KEYS: Keys = &[("O1", Vec3), ("O2", Vec3), ("O3", Vec3)];
 const MESH_KEYS: Keys = &[
     ("file", Text),
@@ -84,8 +119,9 @@ pub(crate) enum Build {
     Camera(fn(Camera, &mut Block<'_>) -> Camera),
     /// A light's shape and position (its colour is common to every light).
     Light(fn(&mut Block<'_>) -> Option<LightKind>),
-    /// A primitive's shapes (its material is common to every primitive).
-    Primitive(fn(&mut Assets, &mut Block<'_>) -> shapes::Shapes),
+    /// A primitive's shapes (its material is common to every primitive),
+    /// adding the textures its own materials name.
+    Primitive(PrimitiveBuild),
 }
 
 /// One kind of block.
@@ -157,12 +193,16 @@ pub(crate) static LIGHTS: [Row; 4] = [
     },
 ];
 
+/// A primitive kind's build function.
+pub(crate) type PrimitiveBuild =
+    fn(&mut Assets, &mut Block<'_>, &mut shapes::AddTexture<'_>) -> shapes::Shapes;
+
 /// A `primitive TYPE` row.
 const fn primitive(
     name: &'static str,
     title: &'static str,
     keys: Keys,
-    build: fn(&mut Assets, &mut Block<'_>) -> shapes::Shapes,
+    build: PrimitiveBuild,
 ) -> Row {
     Row {
         name,
@@ -174,7 +214,7 @@ const fn primitive(
 }
 
 /// The `primitive TYPE` blocks.
-pub(crate) static PRIMITIVES: [Row; 8] = [
+pub(crate) static PRIMITIVES: [Row; 14] = [
     primitive("sphere", "primitive sphere", SPHERE_KEYS, shapes::sphere),
     primitive("plane", "primitive plane", PLANE_KEYS, shapes::plane),
     primitive("square", "primitive square", SQUARE_KEYS, shapes::square),
@@ -193,6 +233,37 @@ pub(crate) static PRIMITIVES: [Row; 8] = [
         shapes::triangle,
     ),
     primitive("mesh", "primitive mesh", MESH_KEYS, shapes::mesh),
+    primitive(
+        "rectangle",
+        "primitive rectangle",
+        RECTANGLE_KEYS,
+        shapes::rectangle,
+    ),
+    primitive(
+        "polyhedron",
+        "primitive polyhedron",
+        POLYHEDRON_KEYS,
+        shapes::polyhedron,
+    ),
+    primitive(
+        "NomalBall",
+        "primitive NomalBall",
+        NOMAL_BALL_KEYS,
+        shapes::nomal_ball,
+    ),
+    primitive(
+        "NomalPlane",
+        "primitive NomalPlane",
+        NOMAL_PLANE_KEYS,
+        shapes::nomal_plane,
+    ),
+    primitive(
+        "Bezier",
+        "primitive Bezier",
+        LINEAGE_BEZIER_KEYS,
+        shapes::lineage_bezier,
+    ),
+    primitive("torus", "primitive torus", TORUS_KEYS, shapes::torus),
 ];
 
 /// The row of type `name` among `rows`.

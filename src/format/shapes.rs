@@ -7,49 +7,104 @@
 //!   with only one of them given, the other is that one turned 90° about N
 //!   (same length), so Dx × Dy points along N;
 //! - a cube without `Dx=`/`Dy=` is axis-aligned (x, y).
+//!
+//! The lineages' own kinds (`rectangle`, `polyhedron`, `NomalBall`,
+//! `NomalPlane`, `Bezier`) follow the lineages spec, §4; blocks that only
+//! an unread file format has (Z17's tensor-product `bezier`, scene4's
+//! `torus`, `cylinder O= N= R= H=`, `cube O= size=`) build nothing and warn.
 
-use super::assets::{Assets, Placement};
+use super::assets::Assets;
 use super::block::Block;
 use super::diags::Site;
+use super::obj::{MtlMaterial, Placement};
 use super::values::{PARALLEL_SINE, Value, parallel, unit};
-use crate::geometry::{Bezier, Cube, Cylinder, Plane, Shape, Sphere, Square, Triangle, axis_frame};
-use glam::{DVec2, DVec3};
+use crate::geometry::{
+    Bezier, Cube, Cylinder, Plane, Rectangle, Shape, Sphere, Square, Triangle, axis_frame,
+};
+use crate::scene::{Material, Texture};
+use glam::{DMat3, DVec2, DVec3};
 
 /// How far a cube's `Dx=`/`Dy=` may be from unit length and perpendicular
 /// before a warning says they were adjusted.
 const ORTHONORMAL_TOLERANCE: f64 = 1e-9;
-/// The shapes of one primitive block, or `None` after an error (reported).
-pub(crate) type Shapes = Option<Vec<Shape>>;
+/// What one primitive block builds, or `None` after an error (reported).
+pub(crate) type Shapes = Option<Built>;
+
+/// Adds a decoded texture to the scene and gives its index.
+pub(crate) type AddTexture<'a> = dyn FnMut(Texture) -> u32 + 'a;
+
+/// The shapes of one primitive block, and the materials some of them have
+/// in place of the block's (a polyhedron's `usemtl` faces).
+#[derive(Default)]
+pub(crate) struct Built {
+    /// The shapes, in file order.
+    pub shapes: Vec<Shape>,
+    /// Materials of their own, each to be added to the scene once.
+    pub materials: Vec<Material>,
+    /// Per shape, the index in `materials` of its own material; empty when
+    /// every shape has the block's.
+    pub material_of: Vec<Option<u32>>,
+}
+
+impl Built {
+    /// Shapes that all have the block's material.
+    fn of(shapes: Vec<Shape>) -> Shapes {
+        Some(Built {
+            shapes,
+            ..Built::default()
+        })
+    }
+
+    /// One shape with the block's material.
+    fn one(shape: Shape) -> Shapes {
+        Built::of(vec![shape])
+    }
+
+    /// Nothing: a block glint skips (after warning).
+    fn skipped(b: &mut Block<'_>, what: &str) -> Shapes {
+        b.diags.warn(
+            b.header,
+            format!("{what}: no lineage reads this; skipped"),
+            None,
+        );
+        Some(Built::default())
+    }
+}
 
 /// `primitive sphere`: `O= R=`, texture directions `De= Dc=`.
-pub(crate) fn sphere(_: &mut Assets, b: &mut Block<'_>) -> Shapes {
-    let (origin, textured) = (b.origin(), b.textured());
+pub(crate) fn sphere(_: &mut Assets, b: &mut Block<'_>, _: &mut AddTexture<'_>) -> Shapes {
+    let (origin, textured) = (b.origin(), b.textured() || b.fields.get("NT").is_some());
     let r = b.radius("R");
     let de = b.direction("De", DVec3::Z, textured);
     let dc = b.direction("Dc", DVec3::Y, textured);
     let (r, de, dc) = (r?, de?, dc?);
-    Some(vec![Shape::Sphere(Sphere::with_orientation(
-        origin, r, de, dc,
-    ))])
+    Built::one(Shape::Sphere(Sphere::with_orientation(origin, r, de, dc)))
 }
 
 /// `primitive square`: `O=` and half-edge vectors `Dx= Dy=`.
-pub(crate) fn square(_: &mut Assets, b: &mut Block<'_>) -> Shapes {
+pub(crate) fn square(_: &mut Assets, b: &mut Block<'_>, _: &mut AddTexture<'_>) -> Shapes {
     let origin = b.origin();
     let (dx, dy) = b.span_pair("Dx", "Dy")?;
-    Some(vec![Shape::Square(Box::new(Square::new(origin, dx, dy)))])
+    Built::one(Shape::Square(Box::new(Square::new(origin, dx, dy))))
 }
 
 /// `primitive cylinder`: axis `O1= O2=`, radius `R=`.
-pub(crate) fn cylinder(_: &mut Assets, b: &mut Block<'_>) -> Shapes {
+pub(crate) fn cylinder(_: &mut Assets, b: &mut Block<'_>, _: &mut AddTexture<'_>) -> Shapes {
+    if b.fields.get("O1").is_none() && (b.fields.get("N").is_some() || b.fields.get("H").is_some())
+    {
+        return Built::skipped(
+            b,
+            "a `primitive cylinder` with `N=`/`H=` and no `O1=` (F's scene4)",
+        );
+    }
     let axis = b.axis();
     let r = b.radius("R");
     let ((o1, o2), r) = (axis?, r?);
-    Some(vec![Shape::Cylinder(Box::new(Cylinder::new(o1, o2, r)))])
+    Built::one(Shape::Cylinder(Box::new(Cylinder::new(o1, o2, r))))
 }
 
 /// `primitive mesh`: the triangles of OBJ file `file=`, placed by `O= scale= rotation=`.
-pub(crate) fn mesh(assets: &mut Assets, b: &mut Block<'_>) -> Shapes {
+pub(crate) fn mesh(assets: &mut Assets, b: &mut Block<'_>, _: &mut AddTexture<'_>) -> Shapes {
     let (name, site) = match b.fields.text("file") {
         Some((n, s)) => (n.to_string(), s),
         None => {
@@ -77,14 +132,11 @@ pub(crate) fn mesh(assets: &mut Assets, b: &mut Block<'_>) -> Shapes {
         Some((s, _)) => s,
         None => DVec3::ONE,
     };
-    let at = Placement {
-        origin,
-        scale,
-        rotation,
-    };
-    let triangles = assets.mesh(&name, site, &at, b.diags)?;
-    Some(
-        triangles
+    let at = Placement::mesh(origin, scale, rotation);
+    let loaded = assets.mesh(&name, site, &at, b.diags)?;
+    Built::of(
+        loaded
+            .triangles
             .into_iter()
             .map(|t| Shape::Triangle(Box::new(t)))
             .collect(),
@@ -92,8 +144,13 @@ pub(crate) fn mesh(assets: &mut Assets, b: &mut Block<'_>) -> Shapes {
 }
 
 /// `primitive plane`: normal `N=`, offset `R=`, texture axes (defaults in the module docs).
-pub(crate) fn plane(_: &mut Assets, b: &mut Block<'_>) -> Shapes {
-    let textured = b.textured();
+pub(crate) fn plane(_: &mut Assets, b: &mut Block<'_>, _: &mut AddTexture<'_>) -> Shapes {
+    Built::one(Shape::Plane(Box::new(read_plane(b)?)))
+}
+
+/// The plane of a `plane` or `NomalPlane` block.
+fn read_plane(b: &mut Block<'_>) -> Option<Plane> {
+    let textured = b.textured() || b.fields.get("NT").is_some();
     let (n, site) = b.need_v3("N", "its normal")?;
     let Some(n) = unit(n) else {
         b.diags
@@ -109,13 +166,16 @@ pub(crate) fn plane(_: &mut Assets, b: &mut Block<'_>) -> Shapes {
         (None, Some(dy)) => (dy.cross(n), dy),
         (None, None) => axis_frame(n),
     };
-    Some(vec![Shape::Plane(Box::new(Plane::new(n, r, dx, dy)))])
+    Some(Plane::new(n, r, dx, dy))
 }
 
 /// `primitive cube`: `O=`, half-lengths `x= y= z=` along `Dx=`, `Dy=` and
 /// their cross product, Dx and Dy made orthonormal (Gram–Schmidt, keeping
 /// Dx's direction) with a warning where the input was not already so.
-pub(crate) fn cube(_: &mut Assets, b: &mut Block<'_>) -> Shapes {
+pub(crate) fn cube(_: &mut Assets, b: &mut Block<'_>, _: &mut AddTexture<'_>) -> Shapes {
+    if b.fields.get("size").is_some() {
+        return Built::skipped(b, "a `primitive cube` with `size=` (F's scene4)");
+    }
     let origin = b.origin();
     let dx = b.fields.v3("Dx");
     let dy = b.fields.v3("Dy");
@@ -165,14 +225,18 @@ pub(crate) fn cube(_: &mut Assets, b: &mut Block<'_>) -> Shapes {
         }
     }
     let size = DVec3::new(hx?, hy?, hz?);
-    Some(vec![Shape::Cube(Box::new(Cube::new(
-        origin, ux, uy_perp, size,
-    )))])
+    Built::one(Shape::Cube(Box::new(Cube::new(origin, ux, uy_perp, size))))
 }
 
 /// `primitive bezier`: a surface of revolution about `O1= O2=`, profile
 /// `P= z r` (at least two control points).
-pub(crate) fn bezier(_: &mut Assets, b: &mut Block<'_>) -> Shapes {
+pub(crate) fn bezier(_: &mut Assets, b: &mut Block<'_>, _: &mut AddTexture<'_>) -> Shapes {
+    if b.fields.get("newPoint").is_some() && b.fields.get("P").is_none() {
+        return Built::skipped(
+            b,
+            "a `primitive bezier` with `newPoint=` and no `P=` (Z17's tensor-product patch)",
+        );
+    }
     let axis = b.axis();
     let points: Vec<(DVec2, Site)> = b
         .fields
@@ -215,11 +279,11 @@ pub(crate) fn bezier(_: &mut Assets, b: &mut Block<'_>) -> Shapes {
     }
     let (o1, o2) = axis?;
     let profile = points.into_iter().map(|(p, _)| p).collect();
-    Some(vec![Shape::Bezier(Box::new(Bezier::new(o1, o2, profile)))])
+    Built::one(Shape::Bezier(Box::new(Bezier::new(o1, o2, profile))))
 }
 
 /// `primitive triangle`: corners `O1= O2= O3=`, not collinear.
-pub(crate) fn triangle(_: &mut Assets, b: &mut Block<'_>) -> Shapes {
+pub(crate) fn triangle(_: &mut Assets, b: &mut Block<'_>, _: &mut AddTexture<'_>) -> Shapes {
     let p0 = b.need_v3("O1", "the first corner");
     let p1 = b.need_v3("O2", "the second corner");
     let p2 = b.need_v3("O3", "the third corner");
@@ -236,7 +300,226 @@ pub(crate) fn triangle(_: &mut Assets, b: &mut Block<'_>) -> Shapes {
         );
         return None;
     }
-    Some(vec![Shape::Triangle(Box::new(Triangle::new(
-        p0, p1, p2, None,
-    )))])
+    Built::one(Shape::Triangle(Box::new(Triangle::new(p0, p1, p2, None))))
+}
+
+/// `primitive rectangle` (Z14, Z17, P): the plane `N= R=` where both
+/// texture coordinates of `Dx= Dy=` (measured from the world origin) lie in
+/// [0, 1]; N, Dx and Dy must be independent.
+pub(crate) fn rectangle(_: &mut Assets, b: &mut Block<'_>, _: &mut AddTexture<'_>) -> Shapes {
+    let n = b.need_v3("N", "its normal");
+    let dx = b.need_v3("Dx", "an edge vector");
+    let dy = b.need_v3("Dy", "an edge vector");
+    let (n, (dx, dx_site), (dy, dy_site)) = (n?, dx?, dy?);
+    let un = b.nonzero("N", n.0, n.1);
+    let ux = b.nonzero("Dx", dx, dx_site);
+    let uy = b.nonzero("Dy", dy, dy_site);
+    let (un, ux, uy) = (un?, ux?, uy?);
+    // The volume of the unit vectors: 0 when the region is a strip (or empty).
+    if DMat3::from_cols(un, ux, uy).determinant().abs() <= PARALLEL_SINE {
+        b.diags.error(
+            dy_site,
+            "`N=`, `Dx=` and `Dy=` lie in one plane; a `primitive rectangle` needs them independent",
+            None,
+        );
+        return None;
+    }
+    let r = b.fields.num("R").map_or(0.0, |(x, _)| x);
+    Built::one(Shape::Rectangle(Box::new(Rectangle::new(un, r, dx, dy))))
+}
+
+/// Warns that a V normal-map block without `NT=` draws its plain shape.
+fn plain_without_normal_map(b: &mut Block<'_>, plain: &str) {
+    if b.fields.get("NT").is_none() && !b.fields.failed("NT") {
+        b.diags.warn(
+            b.header,
+            format!(
+                "a `{}` without `NT=` (its normal map): drawn as a plain {plain}",
+                b.title
+            ),
+            Some("add `NT= FILE.bmp`, or write `primitive {plain}`".to_string()),
+        );
+    }
+}
+
+/// `primitive NomalBall` (V): a sphere (`O= R= De= Dc=`) with the normal map
+/// `NT=` (a material key, read with the others).
+pub(crate) fn nomal_ball(a: &mut Assets, b: &mut Block<'_>, t: &mut AddTexture<'_>) -> Shapes {
+    plain_without_normal_map(b, "sphere");
+    sphere(a, b, t)
+}
+
+/// `primitive NomalPlane` (V): a plane (`N= R= Dx= Dy=`) with the normal map `NT=`.
+pub(crate) fn nomal_plane(a: &mut Assets, b: &mut Block<'_>, t: &mut AddTexture<'_>) -> Shapes {
+    plain_without_normal_map(b, "plane");
+    plane(a, b, t)
+}
+
+/// The control points (x, y) of V's `Bezier` profile, before `ratio=`.
+const V_PROFILE: [(f64, f64); 7] = [
+    (1.5, 0.0),
+    (2.9, 13.0),
+    (-3.5, 15.0),
+    (-5.5, 21.0),
+    (-1.1, 22.5),
+    (-5.5, 25.0),
+    (0.0, 38.0),
+];
+
+/// `primitive Bezier` (V): V's fixed degree-6 vase profile, scaled by
+/// `ratio=` and widened by `R=`, standing on its base centre `O=`: the
+/// `bezier` surface with O1 = O + 38·ratio·ẑ, O2 = O and control points
+/// (ratio·y, R + ratio·x); open; its texture angle runs counter-clockwise
+/// about +z from +x, as V's does.
+pub(crate) fn lineage_bezier(_: &mut Assets, b: &mut Block<'_>, _: &mut AddTexture<'_>) -> Shapes {
+    let origin = b.origin();
+    let r = b.need_num("R", "the radius added to the profile");
+    let ratio = b.need_num("ratio", "the profile's scale");
+    let ((r, _), (ratio, site)) = (r?, ratio?);
+    if ratio == 0.0 {
+        b.diags
+            .error(site, "`ratio=` is 0: the vase would have no height", None);
+        return None;
+    }
+    let top = origin + DVec3::Z * (38.0 * ratio);
+    let profile = V_PROFILE
+        .iter()
+        .map(|&(x, y)| DVec2::new(ratio * y, r + ratio * x))
+        .collect();
+    let shape = Bezier::new(top, origin, profile).with_angle_frame(DVec3::X, DVec3::Y);
+    Built::one(Shape::Bezier(Box::new(shape)))
+}
+
+/// `primitive torus` (F's scene4): no lineage reads it; skipped.
+pub(crate) fn torus(_: &mut Assets, b: &mut Block<'_>, _: &mut AddTexture<'_>) -> Shapes {
+    Built::skipped(b, "a `primitive torus` (F's scene4)")
+}
+
+/// `primitive polyhedron` (PM3, Z17): the OBJ file `mesh=`, rotated by
+/// `angles=` (degrees: about world x, then y, then z), scaled per axis by
+/// `size=`, moved to `O=`; its `vt` texture the triangles, and the faces
+/// after a `usemtl` get that MTL material instead of the block's.
+pub(crate) fn polyhedron(
+    assets: &mut Assets,
+    b: &mut Block<'_>,
+    add_texture: &mut AddTexture<'_>,
+) -> Shapes {
+    let (name, site) = match b.fields.text("mesh") {
+        Some((n, s)) => (n.to_string(), s),
+        None => {
+            if !b.fields.failed("mesh") {
+                b.diags.error(
+                    b.header,
+                    "a `primitive polyhedron` block needs `mesh=` (the OBJ file)",
+                    None,
+                );
+            }
+            return None;
+        }
+    };
+    let origin = b.origin();
+    let angles = b.fields.v3("angles").map_or(DVec3::ZERO, |(v, _)| v);
+    let size = match b.fields.v3("size") {
+        Some((s, site)) if s.x == 0.0 || s.y == 0.0 || s.z == 0.0 => {
+            b.diags.error(
+                site,
+                "`size=` is 0 along some axis; the polyhedron would be flat",
+                None,
+            );
+            return None;
+        }
+        Some((s, _)) => s,
+        None => DVec3::ONE,
+    };
+    let at = Placement::polyhedron(origin, size, angles);
+    let loaded = assets.mesh(&name, site, &at, b.diags)?;
+    for (line, m) in &loaded.unknown_materials {
+        b.diags.warn(
+            site,
+            format!(
+                "line {line} of `{name}`: `usemtl {m}` names no material of its MTL files; \
+                 those faces keep the block's material"
+            ),
+            None,
+        );
+    }
+    let mut materials = Vec::with_capacity(loaded.materials.len());
+    for m in &loaded.materials {
+        materials.push(mtl_material(m, assets, b, site, add_texture)?);
+    }
+    let material_of = if loaded.face_materials.iter().any(Option::is_some) {
+        loaded
+            .face_materials
+            .iter()
+            .map(|m| m.and_then(|i| u32::try_from(i).ok()))
+            .collect()
+    } else {
+        Vec::new()
+    };
+    Some(Built {
+        shapes: loaded
+            .triangles
+            .into_iter()
+            .map(|t| Shape::Triangle(Box::new(t)))
+            .collect(),
+        materials,
+        material_of,
+    })
+}
+
+/// PM3's reading of an MTL material (replacing the block's): `Kd` gives
+/// diff = max(Kd) and color = Kd/diff; `Ks` (one number) refl; `Tf` absor,
+/// and a `Tf` of mean below 1 makes it clear glass (refr = 1, no diff, spec
+/// or refl); `Ni` rindex; `map_Kd` its texture. `map_bump` is not rendered.
+fn mtl_material(
+    m: &MtlMaterial,
+    assets: &mut Assets,
+    b: &mut Block<'_>,
+    site: Site,
+    add_texture: &mut AddTexture<'_>,
+) -> Option<Material> {
+    let mut out = Material::default();
+    if let Some(kd) = m.kd {
+        let diff = kd.max_element();
+        out.diff = diff.max(0.0);
+        out.color = if diff > 0.0 { kd / diff } else { DVec3::ZERO };
+    }
+    if let Some(ks) = m.ks {
+        out.refl = ks;
+    }
+    if let Some(tf) = m.tf {
+        out.absor = tf;
+        if tf.element_sum() / 3.0 < 1.0 {
+            out.refr = 1.0;
+            (out.diff, out.spec, out.refl) = (0.0, 0.0, 0.0);
+        }
+    }
+    if let Some(ni) = m.ni {
+        out.rindex = ni;
+    }
+    if out.refr > 0.0 && out.rindex <= 0.0 {
+        b.diags.warn(
+            site,
+            format!(
+                "material `{}` is transparent (`Tf`) but has no `Ni` > 0; using rindex 1",
+                m.name
+            ),
+            None,
+        );
+        out.rindex = 1.0;
+    }
+    if let Some(file) = &m.map_kd {
+        out.texture = Some(assets.texture(file, site, b.diags, add_texture)?);
+    }
+    if let Some(file) = &m.map_bump {
+        b.diags.warn(
+            site,
+            format!(
+                "material `{}`: bump map `{file}` (`map_bump`) not rendered yet",
+                m.name
+            ),
+            None,
+        );
+    }
+    Some(out)
 }

@@ -1,8 +1,13 @@
 //! The one enum the renderer branches on: every kind of primitive.
 
-use super::{
-    Aabb, Bezier, Cube, Cylinder, Hit, Plane, Ray, Sphere, Square, SurfacePoint, Triangle,
+use super::normal_map::{
+    TangentFrame, perturbed_normal, plane_frame, sphere_frame, triangle_frame,
 };
+use super::{
+    Aabb, Bezier, Cube, Cylinder, Hit, Plane, Ray, Rectangle, Sphere, Square, SurfacePoint,
+    Triangle,
+};
+use glam::DVec3;
 
 /// Every kind of primitive, as one enum so the hot path branches instead of
 /// calling through pointers. Large kinds are boxed to keep the enum small.
@@ -22,6 +27,8 @@ pub enum Shape {
     Bezier(Box<Bezier>),
     /// A triangle (alone or from a mesh).
     Triangle(Box<Triangle>),
+    /// The lineages' rectangle (a plane cut by its texture coordinates).
+    Rectangle(Box<Rectangle>),
 }
 
 impl Shape {
@@ -36,6 +43,7 @@ impl Shape {
             Shape::Cylinder(s) => s.intersect(ray, t_min, t_max),
             Shape::Bezier(s) => s.intersect(ray, t_min, t_max),
             Shape::Triangle(s) => s.intersect(ray, t_min, t_max),
+            Shape::Rectangle(s) => s.intersect(ray, t_min, t_max),
         }
     }
 
@@ -50,6 +58,7 @@ impl Shape {
             Shape::Cylinder(s) => s.surface(ray, hit),
             Shape::Bezier(s) => s.surface(ray, hit),
             Shape::Triangle(s) => s.surface(ray, hit),
+            Shape::Rectangle(s) => s.surface(ray, hit),
         }
     }
 
@@ -73,6 +82,7 @@ impl Shape {
             Shape::Cylinder(_) => "cylinder",
             Shape::Bezier(_) => "bezier",
             Shape::Triangle(_) => "triangle",
+            Shape::Rectangle(_) => "rectangle",
         }
     }
 
@@ -86,7 +96,42 @@ impl Shape {
             Shape::Cylinder(s) => Some(s.bounds()),
             Shape::Bezier(s) => Some(s.bounds()),
             Shape::Triangle(s) => Some(s.bounds()),
+            Shape::Rectangle(s) => Some(s.bounds()),
         }
+    }
+
+    /// Whether a normal map can be read on this kind (it has a
+    /// [`Shape::tangent_frame`]): spheres, planes, squares, rectangles and
+    /// triangles.
+    pub fn takes_normal_map(&self) -> bool {
+        matches!(
+            self,
+            Shape::Sphere(_)
+                | Shape::Plane(_)
+                | Shape::Square(_)
+                | Shape::Rectangle(_)
+                | Shape::Triangle(_)
+        )
+    }
+
+    /// The frame a normal map is read in at surface point `s` (from
+    /// [`Shape::surface`]): V's sphere frame about the centre, V's plane frame
+    /// (fixed) for the flat kinds, the texture-coordinate frame for triangles;
+    /// `None` for the other kinds and degenerate mappings.
+    pub fn tangent_frame(&self, s: &SurfacePoint) -> Option<TangentFrame> {
+        match self {
+            Shape::Sphere(sp) => Some(sphere_frame(s.point - sp.center)),
+            Shape::Plane(_) | Shape::Square(_) | Shape::Rectangle(_) => Some(plane_frame(s.normal)),
+            Shape::Triangle(t) => triangle_frame(s.shading_normal, t.vertices, t.vertex_uvs()),
+            Shape::Cube(_) | Shape::Cylinder(_) | Shape::Bezier(_) => None,
+        }
+    }
+
+    /// The outward shading normal at `s` perturbed by the normal-map texel
+    /// `texel` (sampled at `s.uv`); `s.shading_normal` where there is no frame.
+    pub fn mapped_normal(&self, s: &SurfacePoint, texel: DVec3) -> DVec3 {
+        self.tangent_frame(s)
+            .map_or(s.shading_normal, |f| perturbed_normal(&f, texel))
     }
 }
 

@@ -3,7 +3,8 @@
 use super::{Aabb, Hit, Ray, SurfacePoint};
 use glam::{DVec2, DVec3};
 
-/// A triangle, with per-vertex normals when it comes from a smooth mesh.
+/// A triangle, with per-vertex normals when it comes from a smooth mesh and
+/// per-vertex texture coordinates when its OBJ file has them.
 ///
 /// The vertices are kept as given (not as edge vectors) so that triangles
 /// sharing a vertex see bit-identical coordinates: with the watertight test
@@ -12,9 +13,18 @@ use glam::{DVec2, DVec3};
 pub struct Triangle {
     /// The three vertices; the outward normal is unit((v1 − v0) × (v2 − v0)).
     pub vertices: [DVec3; 3],
-    /// Unit vertex normals, when the mesh has them (boxed: most triangles
-    /// have none, and meshes hold up to millions of triangles).
-    pub normals: Option<Box<[DVec3; 3]>>,
+    /// Vertex normals and texture coordinates, when there are any (boxed:
+    /// most triangles have none, and meshes hold up to millions of triangles).
+    attributes: Option<Box<Attributes>>,
+}
+
+/// What a mesh's vertices may carry besides their position.
+#[derive(Clone, Debug, PartialEq)]
+struct Attributes {
+    /// Unit vertex normals.
+    normals: Option<[DVec3; 3]>,
+    /// Texture coordinates (an OBJ file's `vt`, for `primitive polyhedron`).
+    uvs: Option<[DVec2; 3]>,
 }
 
 impl Triangle {
@@ -23,7 +33,41 @@ impl Triangle {
     pub fn new(a: DVec3, b: DVec3, c: DVec3, normals: Option<[DVec3; 3]>) -> Self {
         Triangle {
             vertices: [a, b, c],
-            normals: normals.map(Box::new),
+            attributes: normals.map(|n| {
+                Box::new(Attributes {
+                    normals: Some(n),
+                    uvs: None,
+                })
+            }),
+        }
+    }
+
+    /// The same triangle with texture coordinates at its vertices: a hit's
+    /// are then theirs, interpolated, instead of its barycentrics.
+    pub fn with_uvs(mut self, uvs: [DVec2; 3]) -> Self {
+        match &mut self.attributes {
+            Some(a) => a.uvs = Some(uvs),
+            None => {
+                self.attributes = Some(Box::new(Attributes {
+                    normals: None,
+                    uvs: Some(uvs),
+                }))
+            }
+        }
+        self
+    }
+
+    /// The unit vertex normals, if the mesh has them.
+    pub fn normals(&self) -> Option<&[DVec3; 3]> {
+        self.attributes.as_ref()?.normals.as_ref()
+    }
+
+    /// The texture coordinates of the vertices: the given ones, or those
+    /// that make a hit's coordinates its barycentrics ((0, 0), (1, 0), (0, 1)).
+    pub fn vertex_uvs(&self) -> [DVec2; 3] {
+        match self.attributes.as_ref().and_then(|a| a.uvs) {
+            Some(uv) => uv,
+            None => [DVec2::ZERO, DVec2::X, DVec2::Y],
         }
     }
 
@@ -91,7 +135,8 @@ impl Triangle {
         })
     }
 
-    /// Point, normals and barycentric texture coordinates (u, v) at a hit.
+    /// Point, normals and texture coordinates at a hit (the vertices'
+    /// interpolated, or the barycentrics (u, v) when they have none).
     pub fn surface(&self, ray: &Ray, hit: &Hit) -> SurfacePoint {
         let [a, b, c] = self.vertices;
         let w = 1.0 - hit.u - hit.v;
@@ -99,9 +144,9 @@ impl Triangle {
         let n = (b - a).cross(c - a).normalize_or_zero();
         // A degenerate triangle has no normal; facing the ray keeps shading finite.
         let normal = if n == DVec3::ZERO { -ray.dir } else { n };
-        let shading_normal = match &self.normals {
+        let shading_normal = match self.normals() {
             Some(ns) => {
-                let [na, nb, nc] = **ns;
+                let [na, nb, nc] = *ns;
                 let s = (na * w + nb * hit.u + nc * hit.v).normalize_or_zero();
                 if s == DVec3::ZERO { normal } else { s }
             }
@@ -111,7 +156,10 @@ impl Triangle {
             point,
             normal,
             shading_normal,
-            uv: DVec2::new(hit.u, hit.v),
+            uv: match self.attributes.as_ref().and_then(|a| a.uvs) {
+                Some(t) => t[0] * w + t[1] * hit.u + t[2] * hit.v,
+                None => DVec2::new(hit.u, hit.v),
+            },
         }
     }
 

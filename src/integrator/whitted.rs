@@ -142,11 +142,14 @@ impl<'a> Whitted<'a> {
         }
         let m = scene.material_of(object);
         let shape = object.shape();
-        let surface = if m.texture.is_some() {
+        let mut surface = if m.texture.is_some() || m.normal_map.is_some() {
             shape.surface(ray, &hit)
         } else {
             shape.surface_untextured(ray, &hit)
         };
+        if let Some(map) = m.normal_map.and_then(|t| scene.textures().get(t as usize)) {
+            surface.shading_normal = shape.mapped_normal(&surface, map.sample(surface.uv));
+        }
         let point = surface.point;
         let front = surface.normal.dot(ray.dir) < 0.0;
         // Normals facing the ray: geometric (for nudging new rays) and shading.

@@ -26,6 +26,8 @@ pub struct Material {
     pub absor: DVec3,
     /// Index into the scene's textures (`texture=`).
     pub texture: Option<u32>,
+    /// Index into the scene's textures of a normal map (`NT=`, the lineage V's key).
+    pub normal_map: Option<u32>,
 }
 
 impl Default for Material {
@@ -40,6 +42,7 @@ impl Default for Material {
             rindex: 0.0,
             absor: DVec3::ZERO,
             texture: None,
+            normal_map: None,
         }
     }
 }
@@ -48,7 +51,7 @@ impl Default for Material {
 /// "finish"): what "equal" means for sharing (-0.0 is not 0.0, and a NaN
 /// equals the same NaN), so a shared value is always the very value the
 /// file gave.
-fn finish_bits(m: &Material) -> [u64; 10] {
+fn finish_bits(m: &Material) -> [u64; 11] {
     [
         m.diff.to_bits(),
         m.spec.to_bits(),
@@ -61,6 +64,7 @@ fn finish_bits(m: &Material) -> [u64; 10] {
         m.absor.z.to_bits(),
         // Never a u32: untextured differs from every texture index.
         m.texture.map_or(u64::MAX, u64::from),
+        m.normal_map.map_or(u64::MAX, u64::from),
     ]
 }
 
@@ -146,7 +150,7 @@ impl MaterialTable {
 
     /// The index of a finish equal to `finish` bit for bit, added if new;
     /// `hash` is [`hash_bits`] of `bits` (a parameter so a test can collide).
-    fn intern(&mut self, finish: Material, bits: [u64; 10], hash: u64) -> u32 {
+    fn intern(&mut self, finish: Material, bits: [u64; 11], hash: u64) -> u32 {
         if let Some(&i) = self.by_hash.get(&hash)
             && finish_bits(&self.finishes[i as usize]) == bits
         {
@@ -159,7 +163,7 @@ impl MaterialTable {
     }
 }
 
-fn hash_bits(bits: &[u64; 10]) -> u64 {
+fn hash_bits(bits: &[u64; 11]) -> u64 {
     let mut h = DefaultHasher::new();
     bits.hash(&mut h);
     h.finish()

@@ -255,13 +255,14 @@ impl Scene {
     /// Adds a material and returns its id. One identical (bit for bit) to
     /// the last added is shared; otherwise it costs 32 bytes, plus its keys
     /// other than `color=` when no earlier material had them all identical.
-    /// A texture index that names no texture of this scene is dropped.
+    /// A texture index (also a normal map's) that names no texture of this
+    /// scene is dropped.
     pub fn add_material(&mut self, mut material: Material) -> MaterialId {
-        if material
-            .texture
-            .is_some_and(|t| t as usize >= self.textures.len())
-        {
-            material.texture = None;
+        let count = self.textures.len();
+        for t in [&mut material.texture, &mut material.normal_map] {
+            if t.is_some_and(|t| t as usize >= count) {
+                *t = None;
+            }
         }
         MaterialId(self.materials.add(&material))
     }

@@ -1500,12 +1500,12 @@ fn obj_transform_order_normals_and_degenerates() {
             .any(|q| (place(*q) - p).length() < 1e-12);
             assert!(found, "vertex {p} not a placed quad vertex");
         }
-        assert!(t.normals.is_none());
+        assert!(t.normals().is_none());
     }
     // (1, 2, 3) → scaled (2, 6, 12) → (12, 2, 6) + origin.
     let smooth = &tris[2];
     assert_vclose(smooth.vertices[0], v(22.0, 22.0, 36.0), 1e-12);
-    let ns = smooth.normals.as_ref().expect("vertex normals kept");
+    let ns = smooth.normals().expect("vertex normals kept");
     // (0,0,1): S⁻¹ keeps it, then → (1, 0, 0).
     assert_vclose(ns[0], DVec3::X, 1e-12);
     // (1,1,0): S⁻¹ → (1/2, 1/3, 0), normalised, then (x, y, z) → (z, x, y).

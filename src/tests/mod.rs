@@ -10,4 +10,5 @@ mod accel;
 mod bezier;
 mod geometry;
 mod lights;
+mod lineages;
 mod parser;

@@ -382,7 +382,7 @@ fn triangle_keys() {
         panic!("not a triangle")
     };
     assert_eq!(t.vertices, [DVec3::ZERO, DVec3::X, DVec3::Y]);
-    assert_eq!(t.normals, None);
+    assert_eq!(t.normals(), None);
 }
 
 #[test]

@@ -179,6 +179,15 @@ impl Bezier {
         shape
     }
 
+    /// The same surface with its texture angle measured from the unit vector
+    /// `e1` towards `e2` (both perpendicular to the axis and to each other)
+    /// instead of the spec's frame: V's `Bezier` measures it
+    /// counter-clockwise about +z from +x.
+    pub fn with_angle_frame(mut self, e1: DVec3, e2: DVec3) -> Self {
+        (self.e1, self.e2) = (e1, e2);
+        self
+    }
+
     /// Cuts the profile where z', r' or r vanish, then halves the largest
     /// pieces until there are [`TARGET_PIECES`].
     fn build_pieces(&mut self) {
