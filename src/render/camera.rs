@@ -102,4 +102,60 @@ mod tests {
         let want = DVec3::new(0.5, 0.0, -1.0).normalize();
         assert!((c.ray(30.0, 100.0).dir - want).length() < 1e-15);
     }
+
+    #[test]
+    fn pm3_and_v_lenses_span_the_outer_pixel_centres() {
+        let cam = Camera {
+            dir: DVec3::Y,
+            lens_w: 1.0,
+            lens_h: 0.6,
+            ..Camera::default()
+        };
+        // PM3's `Emit(i, j)` = N + Dx·lens_W·(j/(W−1) − ½) + Dy·lens_H·(i/(H−1) − ½)
+        // at the integer pixel k, glint's pixel centre k + ½.
+        let c = CameraRays::new(&cam, 101, 61, Lens::Spanned);
+        let emit = |i: f64, j: f64| {
+            (DVec3::Y + DVec3::X * (j / 100.0 - 0.5) + DVec3::Z * 0.6 * (i / 60.0 - 0.5))
+                .normalize()
+        };
+        for (i, j) in [(0.0, 0.0), (60.0, 100.0), (30.0, 50.0), (7.0, 93.0)] {
+            let got = c.ray(i + 0.5, j + 0.5).dir;
+            assert!((got - emit(i, j)).length() < 1e-15, "{i} {j}: {got}");
+        }
+    }
+
+    #[test]
+    fn w_camera_is_aimed_at_a_corner_and_mirrored_by_its_dx() {
+        // W's scene.txt camera: its sphere at (2, 6, −1.5), radius 0.5, lands
+        // at about (j, i) = (425, 96) of picture.bmp (rows from the top).
+        let cam = Camera {
+            origin: DVec3::new(0.5, -1.0, 0.2),
+            dir: DVec3::new(0.6, 1.0, -0.2).normalize(),
+            lens_w: 1.0,
+            lens_h: 0.6,
+            right: Some(DVec3::new(-1.0, 0.6, 0.0).normalize()),
+            ..Camera::default()
+        };
+        let (w, h) = (1280.0, 760.0);
+        let c = CameraRays::new(&cam, 1280, 760, Lens::Corner);
+        // W's formula: N + Dy·2i/H + Dx·2j/W, Dx = unit(Dx=)·lens_W/2, Dy = unit(Dx=) × N·lens_H/2.
+        let dx = DVec3::new(-1.0, 0.6, 0.0).normalize();
+        let dy = dx.cross(cam.dir);
+        let emit = |i: f64, j: f64| {
+            (cam.dir + dy * 0.3 * (2.0 * i / h) + dx * 0.5 * (2.0 * j / w)).normalize()
+        };
+        for (top, j) in [(96.0, 425.0), (0.0, 0.0), (759.0, 1279.0)] {
+            // Glint's rows count from the bottom: pixel row `top` is i = H − top − ½.
+            let got = c.ray(h - top - 0.5, j + 0.5);
+            assert!((got.dir - emit(top + 0.5, j + 0.5)).length() < 1e-15);
+        }
+        let centre = DVec3::new(2.0, 6.0, -1.5);
+        let ray = c.ray(h - 96.5, 425.5);
+        let to = centre - ray.origin;
+        let miss = (to - ray.dir * to.dot(ray.dir)).length();
+        assert!(
+            miss < 0.5 * 0.25,
+            "the sphere's centre is {miss} off the ray"
+        );
+    }
 }

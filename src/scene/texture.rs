@@ -124,4 +124,22 @@ mod tests {
         // Centre of all four.
         assert_eq!(t.sample(DVec2::new(0.25, 0.25)), DVec3::new(0.5, 0.5, 0.25));
     }
+
+    #[test]
+    fn lineages_read_bytes_their_way() {
+        // Bytes 255 and 128 decoded as b/255, read back as b/256 (the framework).
+        let mut t = Texture::from_rows(2, 1, vec![[1.0, 128.0 / 255.0, 0.0], [0.0; 3]]);
+        t.set_byte_divisor(256.0);
+        assert_eq!(
+            t.sample(DVec2::ZERO),
+            DVec3::new(255.0 / 256.0, 0.5, 0.0).as_vec3().as_dvec3()
+        );
+        // W's: the top row first, and no wrapping past the last texel.
+        let mut t = two_by_two();
+        t.flip_clamped();
+        assert_eq!(t.sample(DVec2::new(0.0, 0.0)), DVec3::new(0.0, 1.0, 0.0));
+        assert_eq!(t.sample(DVec2::new(0.5, 0.5)), DVec3::new(1.0, 0.0, 0.0));
+        // Between the last column and the seam: the last column, not a blend with the first.
+        assert_eq!(t.sample(DVec2::new(0.0, 0.75)), DVec3::ONE);
+    }
 }
