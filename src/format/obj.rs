@@ -349,6 +349,11 @@ fn parse_obj_with(
     bytes: &[u8],
     mtl: Option<MtlReader<'_>>,
 ) -> Result<(Vec<tobj::Model>, Vec<MtlMaterial>), String> {
+    // Exporters write comments in local encodings (PM3's dragon2.obj: GBK);
+    // tobj reads lines as UTF-8, so bytes that are not become U+FFFD (they
+    // only ever matter in comments and names). Same line breaks, same lines.
+    let lossy = String::from_utf8_lossy(bytes);
+    let bytes = lossy.as_bytes();
     let options = tobj::LoadOptions {
         triangulate: true,
         single_index: false,

@@ -10,7 +10,7 @@ mod tree;
 mod visibility;
 mod whitted;
 
-pub(crate) use model::{AntiAlias, Lens, Model};
+pub(crate) use model::{AntiAlias, Glossy, Lens, Model};
 pub use observer::RayKind;
 pub(crate) use observer::{AaHash, NoObserver, PathObserver, mix};
 pub use path::RayCounts;

@@ -226,9 +226,11 @@ impl Renderer {
                 cam.shade_quality
             ));
         }
-        let glossy = self.scene.materials().any(|m| m.drefl > 0.0);
+        let model = crate::integrator::Model::of(self.scene.dialect().dialect, cam);
+        let glossy = model.glossy != crate::integrator::Glossy::Mirror
+            && self.scene.materials().any(|m| m.drefl > 0.0);
         let spread = if glossy {
-            let n = 16 * u64::from(cam.drefl_quality.max(1));
+            let n = u64::from(model.glossy_samples);
             drivers.push(format!(
                 "`drefl_quality={}`: {n} rays a glossy reflection",
                 cam.drefl_quality

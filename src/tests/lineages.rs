@@ -365,3 +365,21 @@ fn polyhedron_missing_files_are_errors_naming_them() {
     assert!(e.len() == 1 && e[0].message.contains("line 2"), "{e:?}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn meshes_with_comments_in_a_local_encoding_load() {
+    // PM3's dragon2.obj has a GBK comment on its second line.
+    let dir = temp_dir("gbk");
+    let mut obj =
+        b"# exporter\r\n# \xb4\xb4\xbd\xa8: 21.06\r\nv 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nf 1 2 3\r\n"
+            .to_vec();
+    std::fs::write(dir.join("g.obj"), &obj).unwrap();
+    let s = ok_in(&dir, "primitive polyhedron\n mesh= g.obj\nend\n");
+    assert_eq!(s.objects().len(), 1);
+    // A bad byte outside a comment is still an error at its line.
+    obj.extend_from_slice(b"f 1 2 \xb4\r\n");
+    std::fs::write(dir.join("g.obj"), &obj).unwrap();
+    let e = errors_in(&dir, "primitive polyhedron\n mesh= g.obj\nend\n");
+    assert!(e[0].message.contains("line 7"), "{}", e[0]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
