@@ -20,6 +20,7 @@
 pub mod accel;
 #[cfg(not(feature = "bench"))]
 mod accel;
+mod check;
 mod format;
 #[cfg(feature = "bench")]
 #[doc(hidden)]
@@ -49,6 +50,7 @@ pub mod fuzzing {
     }
 }
 
+pub use check::{CheckReport, Code, ESTIMATE_RAYS_PER_SECOND, Finding, check};
 pub use geometry::Shape;
 pub use integrator::{Blocker, HitInfo, LightTerm, RayCounts, RayKind, RayNode};
 pub use output::{Format, Image, SaveError};

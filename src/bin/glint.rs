@@ -29,6 +29,22 @@ enum Command {
     Probe(ProbeArgs),
     /// Explain one pixel: its ray tree as `render` traces it, its bytes and why.
     Explain(ExplainArgs),
+    /// Lint a scene without rendering it: findings with file:line, what is
+    /// wrong and what to change (exit 0; 1 with --deny-warnings when there
+    /// are any; 2 when the scene cannot be read).
+    Check(CheckArgs),
+}
+
+#[derive(Args)]
+struct CheckArgs {
+    /// The scene file.
+    scene: PathBuf,
+    /// Exit with status 1 when there is any warning (the reader's or a finding).
+    #[arg(long)]
+    deny_warnings: bool,
+    /// One JSON object on stdout (schema: docs/debugging.md).
+    #[arg(long)]
+    json: bool,
 }
 
 #[derive(Args)]
@@ -206,6 +222,8 @@ enum Failure {
     Error(String),
     /// SIGINT or SIGTERM arrived: "interrupted", exit code 130.
     Interrupted,
+    /// Nothing more to say, and this exit code (`check --deny-warnings`: 1).
+    Status(u8),
 }
 
 /// A [`Failure::Error`] with the message `message`.
@@ -254,6 +272,7 @@ fn main() -> ExitCode {
         Command::Render(args) => run_render(args, &interrupt_flag()),
         Command::Probe(args) => run_probe(args),
         Command::Explain(args) => run_explain(args),
+        Command::Check(args) => run_check(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -267,7 +286,41 @@ fn main() -> ExitCode {
             say("interrupted");
             ExitCode::from(130)
         }
+        Err(Failure::Status(code)) => ExitCode::from(code),
     }
+}
+
+fn run_check(args: CheckArgs) -> Result<(), Failure> {
+    let colour = colour();
+    let file = Some(args.scene.display().to_string());
+    let out = |text: String| {
+        let _ = std::io::stdout().write_all(text.as_bytes());
+    };
+    // The reader's diagnostics go to stderr as `render` prints them.
+    let scene = match Scene::from_file(&args.scene) {
+        Ok(scene) => scene,
+        Err(e) => {
+            say_raw(&e.render(colour));
+            if args.json {
+                let report = glint::CheckReport::unreadable(file, &e.diagnostics);
+                out(format!("{}\n", report.to_json()));
+            }
+            return Err(fail(""));
+        }
+    };
+    for w in scene.warnings() {
+        say_raw(&format!("{}\n", w.render(colour)));
+    }
+    let report = glint::check(&Renderer::new(scene));
+    if args.json {
+        out(format!("{}\n", report.to_json()));
+    } else {
+        out(shown(&report.to_text()).into_owned());
+    }
+    if args.deny_warnings && report.warnings() > 0 {
+        return Err(Failure::Status(1));
+    }
+    Ok(())
 }
 
 /// Reads a scene, printing its warnings, or its errors (already escaped, so

@@ -17,6 +17,7 @@ pub use aov::Aov;
 pub use explain::{Explanation, Sampling};
 pub use film::{Film, Plane, Region};
 pub use schedule::MAX_THREADS;
+pub(crate) use verdict::place;
 
 use crate::integrator::{Integrator, RayCounts, SceneAccel};
 use crate::output::Image;
@@ -167,6 +168,22 @@ impl Renderer {
     /// The acceleration structure over the scene's surfaces.
     pub(crate) fn accel(&self) -> &SceneAccel {
         &self.accel
+    }
+
+    /// The scene it renders (its surfaces are in [`Renderer::accel`]).
+    pub(crate) fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// The ray through the centre of pixel (x, y) of a `w` × `h` render,
+    /// as the render traces it.
+    pub(crate) fn centre_rays(
+        &self,
+        w: u32,
+        h: u32,
+    ) -> impl Fn(u32, u32) -> crate::geometry::Ray + '_ {
+        let frame = self.frame(w, h, 0);
+        move |x, y| frame.ray(x, y, 0.5, 0.5)
     }
 
     /// How long building the acceleration structure took.

@@ -79,8 +79,9 @@ fn cause(root: &RayNode, bytes: [u8; 3], file: Option<&str>) -> String {
     let Some(m) = root.material else {
         return format!("the camera ray hits {what}.");
     };
-    let zero = m.color == glam::DVec3::ZERO
-        || (m.diff <= 0.0 && m.spec <= 0.0 && m.refl <= 0.0 && m.refr <= 0.0);
+    // The colour scales diffuse, specular and reflection; refraction not.
+    let coloured = m.diff > 0.0 || m.spec > 0.0 || m.refl > 0.0;
+    let zero = m.refr <= 0.0 && (m.color == glam::DVec3::ZERO || !coloured);
     if zero {
         return format!(
             "black: the material of {what} is all zero (colour or every one of diff, spec, refl, refr), so it neither reflects light nor lets any through."
