@@ -819,3 +819,37 @@ fn check_exit_codes_text_and_json() {
         Some(2)
     );
 }
+
+/// `--aov light:0,shade,why,clamp` writes OUT.light-0.png ... and the why
+/// legend; a bad `light:` is an argument error naming it, nothing written.
+#[test]
+fn shading_passes_are_written_with_the_why_legend() {
+    let dir = scratch("shading-passes");
+    let scene = write(&dir, "s.txt", SMALL);
+    let out = dir.join("shot.png");
+    let o = render(&scene, &out, &["--aov", "light:0,shade,why,clamp", "-q"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for name in [
+        "shot.light-0.png",
+        "shot.shade.png",
+        "shot.why.png",
+        "shot.clamp.png",
+        "shot.why.json",
+    ] {
+        assert!(dir.join(name).is_file(), "{name} missing");
+    }
+    let legend: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("shot.why.json")).unwrap()).unwrap();
+    let kinds: Vec<&str> = legend
+        .as_object()
+        .unwrap()
+        .values()
+        .filter_map(|v| v["kind"].as_str())
+        .collect();
+    assert!(kinds.contains(&"background"), "{legend}");
+    let bad = dir.join("bad.png");
+    let o = render(&scene, &bad, &["--aov", "light:x"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("light:x"));
+    assert!(!bad.exists());
+}

@@ -117,7 +117,8 @@ struct RenderArgs {
     #[arg(short, long)]
     verbose: bool,
     /// Passes to write beside the picture, comma-separated: normal, depth,
-    /// position, uv, primitive, albedo, rays (layers of an .exr; else OUT.PASS.EXT files).
+    /// position, uv, primitive, albedo, rays, light:N, shade, why, clamp
+    /// (layers of an .exr; else OUT.PASS.EXT files).
     #[arg(long)]
     aov: Option<String>,
     /// Render only columns X0..X1 and rows Y0..Y1 (ends excluded, rows from

@@ -11,13 +11,14 @@ mod frame;
 mod passes;
 mod report;
 mod schedule;
+mod shading_passes;
 mod verdict;
 
 pub use aov::Aov;
 pub use explain::{Explanation, Sampling};
 pub use film::{Film, Plane, Region};
 pub use schedule::MAX_THREADS;
-pub(crate) use verdict::place;
+pub(crate) use verdict::{Cause, place};
 
 use crate::integrator::{Integrator, RayCounts, SceneAccel};
 use crate::output::Image;
@@ -301,7 +302,7 @@ impl Renderer {
             .aovs
             .iter()
             .copied()
-            .filter(|&a| a != Aov::Rays)
+            .filter(|&a| a != Aov::Rays && !a.shaded())
             .collect();
         let mut planes = if first_hit.is_empty() {
             Vec::new()
@@ -310,13 +311,18 @@ impl Renderer {
                 aov::first_hit_planes(&frame, &self.scene, &self.accel, region, &first_hit)
             })
         };
+        if options.aovs.iter().any(|a| a.shaded()) {
+            planes.extend(schedule::with_threads(options.threads, || {
+                shading_passes::shading_planes(&frame, &self.scene, region, &options.aovs)
+            }));
+        }
         if let Some(counts) = done.rays_per_pixel {
             planes.push((Aov::Rays, counts));
         }
         // In the order asked for.
         for &aov in &options.aovs {
             if let Some((_, data)) = planes.iter_mut().find(|(a, _)| *a == aov) {
-                film.set_plane(aov.name(), aov.channels(), std::mem::take(data));
+                film.set_plane(&aov.name(), aov.channels(), std::mem::take(data));
             }
         }
         let stats = RenderStats {
