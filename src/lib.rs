@@ -21,6 +21,7 @@ pub mod accel;
 #[cfg(not(feature = "bench"))]
 mod accel;
 mod check;
+mod compare;
 mod format;
 #[cfg(feature = "bench")]
 #[doc(hidden)]
@@ -51,6 +52,7 @@ pub mod fuzzing {
 }
 
 pub use check::{CheckReport, Code, ESTIMATE_RAYS_PER_SECOND, Finding, check};
+pub use compare::{CompareError, Comparison, DEFAULT_THRESHOLD, Group, compare, read_picture};
 pub use geometry::Shape;
 pub use integrator::{Blocker, HitInfo, LightTerm, RayCounts, RayKind, RayNode};
 pub use output::{Format, Image, SaveError};

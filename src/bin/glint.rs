@@ -33,6 +33,27 @@ enum Command {
     /// wrong and what to change (exit 0; 1 with --deny-warnings when there
     /// are any; 2 when the scene cannot be read).
     Check(CheckArgs),
+    /// Compare your own render with glint's: a heat map, and the differing
+    /// pixels grouped by the primitive glint sees there, worst first.
+    Compare(CompareArgs),
+}
+
+#[derive(Args)]
+struct CompareArgs {
+    /// The scene file.
+    scene: PathBuf,
+    /// Your render of it (.bmp or .png), the scene's size.
+    theirs: PathBuf,
+    /// Write the heat map here (.png or .bmp): glint's picture dimmed, the
+    /// differing pixels from red to white.
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// A pixel differs when a channel is off by more than this (8-bit steps).
+    #[arg(long, default_value_t = glint::DEFAULT_THRESHOLD)]
+    threshold: u8,
+    /// One JSON object on stdout (schema: docs/debugging.md).
+    #[arg(long)]
+    json: bool,
 }
 
 #[derive(Args)]
@@ -274,6 +295,7 @@ fn main() -> ExitCode {
         Command::Probe(args) => run_probe(args),
         Command::Explain(args) => run_explain(args),
         Command::Check(args) => run_check(args),
+        Command::Compare(args) => run_compare(args, &interrupt_flag()),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -289,6 +311,35 @@ fn main() -> ExitCode {
         }
         Err(Failure::Status(code)) => ExitCode::from(code),
     }
+}
+
+fn run_compare(args: CompareArgs, interrupt: &AtomicBool) -> Result<(), Failure> {
+    if let Some(out) = &args.output {
+        refuse_scene_as_output(&args.scene, out)?;
+        refuse_scene_as_output(&args.theirs, out)?;
+        Format::from_path(out).map_err(|e| fail(format!("error: -o: {e}")))?;
+    }
+    let scene = load_scene(&args.scene)?;
+    let (theirs, size) =
+        glint::read_picture(&args.theirs).map_err(|e| fail(format!("error: {e}")))?;
+    let renderer = Renderer::new(scene);
+    let c = glint::compare(&renderer, &theirs, size, args.threshold).map_err(|e| match e {
+        glint::CompareError::Size { .. } => fail(format!("error: {}: {e}", args.theirs.display())),
+        glint::CompareError::Render(r) => render_failure(r),
+    })?;
+    check_interrupt(interrupt)?;
+    if let Some(out) = &args.output {
+        let saved = c.heat.save_unless(out, interrupt);
+        check_interrupt(interrupt)?;
+        saved.map_err(|e| fail(format!("error: cannot write the heat map: {e}")))?;
+    }
+    let text = if args.json {
+        format!("{}\n", c.to_json())
+    } else {
+        shown(&c.to_text()).into_owned()
+    };
+    let _ = std::io::stdout().write_all(text.as_bytes());
+    Ok(())
 }
 
 fn run_check(args: CheckArgs) -> Result<(), Failure> {
