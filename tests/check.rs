@@ -142,6 +142,10 @@ fn faces() {
     let double = "primitive square\n O= 0 2 1\n Dx= 1 0 0\n Dy= 0 0 1\n color= 1 1 1\n diff= 0.5\nend\n\
                   primitive square\n O= 0.5 2 1\n Dx= 1 0 0\n Dy= 0 0 1\n color= 0 0 1\n diff= 0.5\nend\n";
     planted(double, &[Code::CoincidentFaces], "primitive", 2);
+    // A box resting on the floor hides the floor under it: nothing; one
+    // that sinks into it from below (seen from below) would not.
+    let resting = "primitive cube\n O= -1.5 -2 0.5\n x= 0.5\n y= 0.5\n z= 0.5\n color= 1 1 1\n diff= 0.5\nend\n";
+    assert_eq!(findings(&with(resting)), vec![]);
     // A square on the floor plane.
     let decal =
         "primitive square\n O= 0 -3 0\n Dx= 1 0 0\n Dy= 0 1 0\n color= 1 1 1\n diff= 0.5\nend\n";

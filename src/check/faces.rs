@@ -122,6 +122,7 @@ fn overlap(a: &Face, b: &Face, eps: f64) -> bool {
 pub(crate) fn check(renderer: &Renderer, blocks: &[Block], out: &mut Findings) {
     let size = scale(blocks);
     let eps = 1e-6 * size;
+    let eye = renderer.scene().camera().origin;
     let name_of = |b: u32| {
         blocks
             .iter()
@@ -161,7 +162,10 @@ pub(crate) fn check(renderer: &Renderer, blocks: &[Block], out: &mut Findings) {
                     na.dot(nb) > 1.0 - 1e-9 && (na.dot(a.center) - nb.dot(b.center)).abs() < eps;
                 // Two boxes that touch: their shared faces face each other, hidden.
                 let touching = a.solid && b.solid && a.normal.dot(b.normal) < 0.0;
-                if coplanar && !touching && overlap(a, b, eps) {
+                // A box's face is seen only from outside it: a box resting on
+                // a floor hides the floor's part under it from a camera above.
+                let seen = |f: &Face| !f.solid || (eye - f.center).dot(f.normal) > 0.0;
+                if coplanar && !touching && seen(a) && seen(b) && overlap(a, b, eps) {
                     pairs.insert((a.block.min(b.block), a.block.max(b.block)));
                 }
             }
