@@ -77,17 +77,20 @@ pub struct Comparison {
     pub heat: Image,
 }
 
-/// Compares `theirs` (8-bit RGB, rows from the top, `w` × `h`) with glint's
-/// default render of `renderer`'s scene.
+/// Compares `theirs` (8-bit RGB, rows from the top, `w` × `h`) with
+/// glint's render of `renderer`'s scene as `options` say (sizes, samples,
+/// seed; its passes and region are not used: the whole frame is compared).
 pub fn compare(
     renderer: &Renderer,
     theirs: &[u8],
     (w, h): (u32, u32),
     threshold: u8,
+    options: &RenderOptions,
 ) -> Result<Comparison, CompareError> {
     let options = RenderOptions {
         aovs: vec![Aov::Primitive],
-        ..RenderOptions::default()
+        region: None,
+        ..options.clone()
     };
     let (ours_w, ours_h) = renderer.frame_size(&options)?;
     if (w, h) != (ours_w, ours_h) || theirs.len() != (w as usize * h as usize * 3) {

@@ -44,7 +44,8 @@ fn ours(r: &Renderer) -> (Vec<u8>, Vec<f32>) {
 fn glints_own_render_does_not_differ() {
     let r = renderer();
     let (bytes, _) = ours(&r);
-    let c = compare(&r, &bytes, (48, 36), 8).unwrap_or_else(|e| panic!("{e}"));
+    let c = compare(&r, &bytes, (48, 36), 8, &RenderOptions::default())
+        .unwrap_or_else(|e| panic!("{e}"));
     assert_eq!((c.differing, c.groups.len()), (0, 0));
 }
 
@@ -65,7 +66,8 @@ fn a_recoloured_primitive_ranks_first() {
             }
         }
         assert!(planted > 20, "{planted}");
-        let c = compare(&r, &bytes, (48, 36), 8).unwrap_or_else(|e| panic!("{e}"));
+        let c = compare(&r, &bytes, (48, 36), 8, &RenderOptions::default())
+            .unwrap_or_else(|e| panic!("{e}"));
         let first = &c.groups[0];
         assert_eq!(first.primitive, Some(block));
         assert_eq!((first.differing, first.black_in_theirs), (planted, planted));
@@ -80,7 +82,13 @@ fn a_recoloured_primitive_ranks_first() {
 #[test]
 fn sizes_that_differ_are_an_error() {
     let r = renderer();
-    let e = compare(&r, &vec![0; 40 * 30 * 3], (40, 30), 8);
+    let e = compare(
+        &r,
+        &vec![0; 40 * 30 * 3],
+        (40, 30),
+        8,
+        &RenderOptions::default(),
+    );
     assert!(
         matches!(
             e,

@@ -48,6 +48,15 @@ struct CompareArgs {
     /// differing pixels from red to white.
     #[arg(short, long)]
     output: Option<PathBuf>,
+    /// Render glint's picture this wide, as `render --width` does.
+    #[arg(long)]
+    width: Option<u32>,
+    /// Render glint's picture this high, as `render --height` does.
+    #[arg(long)]
+    height: Option<u32>,
+    /// Stratified samples per pixel, as for `render` (default: adaptive anti-aliasing).
+    #[arg(long, value_parser = at_least_one::<u32>)]
+    spp: Option<u32>,
     /// A pixel differs when a channel is off by more than this (8-bit steps).
     #[arg(long, default_value_t = glint::DEFAULT_THRESHOLD)]
     threshold: u8,
@@ -323,10 +332,20 @@ fn run_compare(args: CompareArgs, interrupt: &AtomicBool) -> Result<(), Failure>
     let (theirs, size) =
         glint::read_picture(&args.theirs).map_err(|e| fail(format!("error: {e}")))?;
     let renderer = Renderer::new(scene);
-    let c = glint::compare(&renderer, &theirs, size, args.threshold).map_err(|e| match e {
-        glint::CompareError::Size { .. } => fail(format!("error: {}: {e}", args.theirs.display())),
-        glint::CompareError::Render(r) => render_failure(r),
-    })?;
+    let options = RenderOptions {
+        width: args.width,
+        height: args.height,
+        spp: args.spp,
+        ..RenderOptions::default()
+    };
+    let c = glint::compare(&renderer, &theirs, size, args.threshold, &options).map_err(
+        |e| match e {
+            glint::CompareError::Size { .. } => {
+                fail(format!("error: {}: {e}", args.theirs.display()))
+            }
+            glint::CompareError::Render(r) => render_failure(r),
+        },
+    )?;
     check_interrupt(interrupt)?;
     if let Some(out) = &args.output {
         let saved = c.heat.save_unless(out, interrupt);
