@@ -242,6 +242,18 @@ pub(crate) fn cause(root: &RayNode, bytes: [u8; 3], file: Option<&str>) -> (Caus
             ),
         )
     };
+    // No direct light, but a mirror or glass term still carries colour.
+    let carried = m.refl > 0.0 || m.refr > 0.0;
+    let main = if carried && matches!(kind, Cause::FacesAway | Cause::Shadow | Cause::NoLights) {
+        let direct = main
+            .trim_start_matches("black: ")
+            .replace(" (the framework renders it black too)", "");
+        format!(
+            "{direct} No light reaches it directly: its colour comes only from what it reflects or lets through."
+        )
+    } else {
+        main
+    };
     if clamped {
         (
             kind,
