@@ -12,7 +12,7 @@ glint="${CARGO_TARGET_DIR:-target}/release/glint"
 out=docs/debugging
 mkdir -p "$out"
 size="--width 240"
-passes=normal,depth,position,uv,primitive,albedo,rays,light:0,light:1,shade,why,clamp
+passes=normal,depth,position,uv,primitive,albedo,rays,light:0,light:1,shade,why,clamp,cost
 "$glint" render examples/showcase.txt -o "$out/showcase.png" $size -q --aov "$passes"
 "$glint" explain examples/showcase.txt $size --pixel 161,82 > "$out/black-pixel.txt"
 "$glint" check examples/showcase.txt > "$out/check.txt"

@@ -185,7 +185,7 @@ pub fn save_pass_images(
             }
             _ => {
                 let ranges: Vec<(f32, f32)> = (0..p.channels).map(|c| range(p, c, &hit)).collect();
-                if matches!(p.name.as_str(), "depth" | "position" | "rays") {
+                if matches!(p.name.as_str(), "depth" | "position" | "rays" | "cost") {
                     sidecar = Some(serde_json::json!({
                         "min": ranges.iter().map(|r| r.0).collect::<Vec<_>>(),
                         "max": ranges.iter().map(|r| r.1).collect::<Vec<_>>(),

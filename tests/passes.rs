@@ -422,3 +422,43 @@ fn shade_and_why_follow_shadow_rays_traced_by_the_probe() {
         "{seen:?}"
     );
 }
+
+#[test]
+fn cost_counts_the_tests_a_first_hit_needs() {
+    // Planes alone are tested one by one: no leaf, one test each.
+    let planes = "camera\n O= 0 -8 3\n N= 0 1 -0.3\n image_W= 20\n image_H= 15\nend\n\
+                  primitive plane\n N= 0 0 1\n R= 0\n color= 1 1 1\n diff= 1\nend\n\
+                  primitive plane\n N= 0 -1 0\n R= -5\n color= 1 1 1\n diff= 1\nend\n";
+    let r = Renderer::new(Scene::parse(planes, ".").unwrap_or_else(|e| panic!("{e}")));
+    let options = RenderOptions {
+        aovs: vec![Aov::Cost],
+        ..RenderOptions::default()
+    };
+    let f = r.render(&options).unwrap_or_else(|e| panic!("{e}"));
+    let cost = f.plane("cost").unwrap();
+    assert!(
+        cost.data.chunks(2).all(|c| c == [0.0, 2.0]),
+        "{:?}",
+        &cost.data[..8]
+    );
+    // SCENE: a plane and two bounded objects. A pixel whose centre ray hits a
+    // bounded one tested it in a leaf, besides the plane; nothing tests
+    // more than the three objects.
+    let (s, r, f) = film(None);
+    let (cost, prim) = (f.plane("cost").unwrap(), f.plane("primitive").unwrap());
+    let cam = s.camera();
+    let mut bounded = 0;
+    for i in 0..(cam.width * cam.height) as usize {
+        let (leaves, tests) = (cost.data[2 * i], cost.data[2 * i + 1]);
+        assert!(
+            (1.0..=3.0).contains(&tests) && leaves <= tests - 1.0,
+            "pixel {i}: {leaves} {tests}"
+        );
+        if prim.data[i] >= 1.0 {
+            bounded += 1;
+            assert!(leaves >= 1.0 && tests >= 2.0, "pixel {i}: {leaves} {tests}");
+        }
+    }
+    assert!(bounded > 50, "{bounded}");
+    let _ = r;
+}

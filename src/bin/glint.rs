@@ -147,7 +147,7 @@ struct RenderArgs {
     #[arg(short, long)]
     verbose: bool,
     /// Passes to write beside the picture, comma-separated: normal, depth,
-    /// position, uv, primitive, albedo, rays, light:N, shade, why, clamp
+    /// position, uv, primitive, albedo, rays, light:N, shade, why, clamp, cost
     /// (layers of an .exr; else OUT.PASS.EXT files).
     #[arg(long)]
     aov: Option<String>,

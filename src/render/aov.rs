@@ -38,11 +38,14 @@ pub enum Aov {
     Why,
     /// What the clamp cut at the centre ray's hit: the sum above 1 per channel.
     Clamp,
+    /// The centre ray's nearest-hit query: BVH leaves reached and
+    /// primitives tested (unbounded ones, planes, count as tests, not leaves).
+    Cost,
 }
 
 impl Aov {
     /// Every pass, in the order they are documented (`light:N` as light 0).
-    pub const ALL: [Aov; 11] = [
+    pub const ALL: [Aov; 12] = [
         Aov::Normal,
         Aov::Depth,
         Aov::Position,
@@ -54,6 +57,7 @@ impl Aov {
         Aov::Shade,
         Aov::Why,
         Aov::Clamp,
+        Aov::Cost,
     ];
 
     /// Its name, as `--aov` takes it and as the film's plane is called.
@@ -70,6 +74,7 @@ impl Aov {
             Aov::Shade => "shade".into(),
             Aov::Why => "why".into(),
             Aov::Clamp => "clamp".into(),
+            Aov::Cost => "cost".into(),
         }
     }
 
@@ -77,7 +82,7 @@ impl Aov {
     pub fn channels(self) -> usize {
         match self {
             Aov::Normal | Aov::Position | Aov::Albedo | Aov::Light(_) | Aov::Clamp => 3,
-            Aov::Uv | Aov::Shade => 2,
+            Aov::Uv | Aov::Shade | Aov::Cost => 2,
             Aov::Depth | Aov::Primitive | Aov::Rays | Aov::Why => 1,
         }
     }
@@ -130,6 +135,7 @@ pub(crate) fn first_hit_planes(
 ) -> Vec<(Aov, Vec<f32>)> {
     let per_pixel: usize = aovs.iter().map(|a| a.channels()).sum();
     let rw = region.width as usize;
+    let cost = aovs.contains(&Aov::Cost);
     let mut all = vec![0f32; region.area() as usize * per_pixel];
     all.par_chunks_mut(rw * per_pixel)
         .enumerate()
@@ -137,11 +143,24 @@ pub(crate) fn first_hit_planes(
             let y = region.y + row as u32;
             for (i, px) in values.chunks_mut(per_pixel).enumerate() {
                 let ray = frame.ray(region.x + i as u32, y, 0.5, 0.5);
-                let found = accel.intersect(&ray, f64::INFINITY);
+                let mut tally = (0u32, 0u32);
+                let found = if cost {
+                    accel.intersect_tallied(&ray, f64::INFINITY, &mut |leaf, n| {
+                        tally.0 += u32::from(leaf);
+                        tally.1 += n as u32;
+                    })
+                } else {
+                    accel.intersect(&ray, f64::INFINITY)
+                };
                 let mut at = 0;
                 for &aov in aovs {
                     let out = &mut px[at..at + aov.channels()];
                     at += aov.channels();
+                    if aov == Aov::Cost {
+                        out[0] = tally.0 as f32;
+                        out[1] = tally.1 as f32;
+                        continue;
+                    }
                     let Some((index, hit)) = found else {
                         if aov == Aov::Primitive {
                             out[0] = -1.0;
@@ -169,7 +188,12 @@ pub(crate) fn first_hit_planes(
                             }
                         }
                         // Counted by the render itself, or traced apart.
-                        Aov::Rays | Aov::Light(_) | Aov::Shade | Aov::Why | Aov::Clamp => {}
+                        Aov::Rays
+                        | Aov::Light(_)
+                        | Aov::Shade
+                        | Aov::Why
+                        | Aov::Clamp
+                        | Aov::Cost => {}
                         Aov::Albedo => {
                             let k = albedo(scene, &scene.material_of(object), s.uv);
                             put(out, &k.to_array());
