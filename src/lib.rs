@@ -20,6 +20,8 @@
 pub mod accel;
 #[cfg(not(feature = "bench"))]
 mod accel;
+mod check;
+mod compare;
 mod format;
 #[cfg(feature = "bench")]
 #[doc(hidden)]
@@ -49,6 +51,8 @@ pub mod fuzzing {
     }
 }
 
+pub use check::{CheckReport, Code, ESTIMATE_RAYS_PER_SECOND, Finding, check};
+pub use compare::{CompareError, Comparison, DEFAULT_THRESHOLD, Group, compare, read_picture};
 pub use geometry::Shape;
 pub use integrator::{Blocker, HitInfo, LightTerm, RayCounts, RayKind, RayNode};
 pub use output::{Format, Image, SaveError};

@@ -2,10 +2,10 @@
 //! (any other format) one image per pass beside it, `OUT.PASS.EXT`, mapped
 //! to 8 bits (normals as 0.5 + 0.5·n; depth, position and rays normalised,
 //! their range in a sidecar `OUT.PASS.json`; primitives as false colours with a
-//! legend `OUT.primitive.json`).
+//! legend `OUT.primitive.json`, the verdict's kinds likewise in `OUT.why.json`).
 
 use crate::output::{Format, Image, SaveError, write_atomically};
-use crate::render::{Film, Plane};
+use crate::render::{Cause, Film, Plane};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
@@ -27,9 +27,11 @@ pub fn primitive_colour(value: f32) -> [u8; 3] {
     [(code >> 16) as u8, (code >> 8) as u8, code as u8]
 }
 
-/// `picture` with `.PASS` before its extension: `shot.png` -> `shot.normal.png`.
+/// `picture` with `.PASS` before its extension: `shot.png` -> `shot.normal.png`
+/// (`light:N` is written `light-N`, a colon being no file name's on Windows).
 pub fn pass_path(picture: &Path, pass: &str, ext: &str) -> PathBuf {
     let stem = picture.file_stem().unwrap_or_default().to_string_lossy();
+    let pass = pass.replace(':', "-");
     picture.with_file_name(format!("{stem}.{pass}.{ext}"))
 }
 
@@ -141,6 +143,27 @@ pub fn save_pass_images(
                     }
                 })
                 .collect(),
+            "why" => {
+                let mut legend = serde_json::Map::new();
+                let pixels = p
+                    .data
+                    .iter()
+                    .map(|&v| {
+                        let kind = Cause::ALL
+                            .get(v as usize)
+                            .copied()
+                            .unwrap_or(Cause::Background);
+                        let c = kind.colour();
+                        let key = format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2]);
+                        legend.entry(key).or_insert_with(
+                            || serde_json::json!({"index": v as u32, "kind": kind.name()}),
+                        );
+                        c.map(|b| b as f32 / 255.0 + 0.5 / 255.0)
+                    })
+                    .collect();
+                sidecar = Some(serde_json::Value::Object(legend));
+                pixels
+            }
             "primitive" => {
                 let mut legend = serde_json::Map::new();
                 let pixels = p
@@ -162,7 +185,7 @@ pub fn save_pass_images(
             }
             _ => {
                 let ranges: Vec<(f32, f32)> = (0..p.channels).map(|c| range(p, c, &hit)).collect();
-                if matches!(p.name.as_str(), "depth" | "position" | "rays") {
+                if matches!(p.name.as_str(), "depth" | "position" | "rays" | "cost") {
                     sidecar = Some(serde_json::json!({
                         "min": ranges.iter().map(|r| r.0).collect::<Vec<_>>(),
                         "max": ranges.iter().map(|r| r.1).collect::<Vec<_>>(),

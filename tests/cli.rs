@@ -755,3 +755,107 @@ fn the_memory_check_respects_the_address_space_limit() {
     assert!(err.contains("needs about"), "{err}");
     assert!(!out.exists());
 }
+
+/// `glint check`: exit 0 with warnings, 1 with --deny-warnings, 2 on
+/// errors; text and JSON name the file and line.
+#[test]
+fn check_exit_codes_text_and_json() {
+    let dir = scratch("check");
+    let clean = "camera\n O= 0 -8 2\n N= 0 1 -0.2\n image_W= 64\n image_H= 48\n lens_W= 1\n lens_H= 0.75\nend\n\
+                 light point\n O= 3 -6 8\n color= 1 1 1\nend\n\
+                 primitive sphere\n O= 0 0 1\n R= 1\n color= 1 0.3 0.2\n diff= 0.7\nend\n";
+    let good = write(&dir, "good.txt", clean);
+    let o = glint(&["check", &good, "--deny-warnings"], None);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    // A stretched lens (line 1: the camera block) and a black ball (line 13).
+    let bad = write(
+        &dir,
+        "bad.txt",
+        &clean
+            .replace("lens_H= 0.75", "lens_H= 0.5")
+            .replace("color= 1 0.3 0.2", "color= 0 0 0"),
+    );
+    let o = glint(&["check", &bad], None);
+    assert_eq!(o.status.code(), Some(0));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        text.contains(&format!("{bad}:1: warning[lens-aspect]")),
+        "{text}"
+    );
+    assert!(
+        text.contains(&format!("{bad}:13: warning[zero-material]")),
+        "{text}"
+    );
+    assert!(text.contains("help: set `lens_H= 0.7500`"), "{text}");
+    assert_eq!(
+        glint(&["check", &bad, "--deny-warnings"], None)
+            .status
+            .code(),
+        Some(1)
+    );
+    let o = glint(&["check", &bad, "--json"], None);
+    let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(json["warnings"], 2);
+    assert_eq!(json["findings"][0]["code"], "zero-material");
+    assert_eq!(json["findings"][1]["code"], "lens-aspect");
+    assert_eq!(json["findings"][1]["line"], 1);
+    assert_eq!(json["findings"][1]["severity"], "warning");
+    assert_eq!(json["findings"][1]["file"], bad.as_str());
+    assert!(
+        json["estimate"]["rays"]
+            .as_u64()
+            .is_some_and(|r| r >= 64 * 48)
+    );
+    // A scene that cannot be read: exit 2, its errors as findings.
+    let broken = write(&dir, "broken.txt", "primitive sphere\n R= -1\nend\n");
+    let o = glint(&["check", &broken, "--json"], None);
+    assert_eq!(o.status.code(), Some(2));
+    let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(json["findings"][0]["severity"], "error");
+    assert_eq!(json["estimate"], serde_json::Value::Null);
+    assert_eq!(
+        glint(&["check", &dir.join("none.txt").to_string_lossy()], None)
+            .status
+            .code(),
+        Some(2)
+    );
+}
+
+/// `--aov light:0,shade,why,clamp` writes OUT.light-0.png ... and the why
+/// legend; a bad `light:` is an argument error naming it, nothing written.
+#[test]
+fn shading_passes_are_written_with_the_why_legend() {
+    let dir = scratch("shading-passes");
+    let scene = write(&dir, "s.txt", SMALL);
+    let out = dir.join("shot.png");
+    let o = render(&scene, &out, &["--aov", "light:0,shade,why,clamp", "-q"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for name in [
+        "shot.light-0.png",
+        "shot.shade.png",
+        "shot.why.png",
+        "shot.clamp.png",
+        "shot.why.json",
+    ] {
+        assert!(dir.join(name).is_file(), "{name} missing");
+    }
+    let legend: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("shot.why.json")).unwrap()).unwrap();
+    let kinds: Vec<&str> = legend
+        .as_object()
+        .unwrap()
+        .values()
+        .filter_map(|v| v["kind"].as_str())
+        .collect();
+    assert!(kinds.contains(&"background"), "{legend}");
+    let bad = dir.join("bad.png");
+    let o = render(&scene, &bad, &["--aov", "light:x"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("light:x"));
+    assert!(!bad.exists());
+}

@@ -279,3 +279,33 @@ fn a_pixel_outside_the_frame_is_an_error() {
         Err(glint::RenderError::Samples { .. })
     ));
 }
+
+/// Glass whose lit side faces away from the camera is not called black:
+/// its colour is what it lets through.
+#[test]
+fn glass_facing_away_from_the_light_is_not_called_black() {
+    let s = scene(
+        "background\n color= 0.5 0.6 0.9\nend\n\
+         camera\n O= 0 -8 0\n N= 0 1 0\n image_W= 21\n image_H= 21\nend\n\
+         light point\n O= 0 8 0\n color= 1 1 1\nend\n\
+         primitive sphere\n O= 0 0 0\n R= 2\n color= 1 1 1\n spec= 0.3\n refr= 0.9\n rindex= 1.5\nend\n",
+    );
+    let r = Renderer::new(s);
+    let options = RenderOptions {
+        spp: Some(1),
+        ..RenderOptions::default()
+    };
+    let e = explain(&r, &options, 10, 10);
+    assert_ne!(e.bytes, [0, 0, 0]);
+    assert!(
+        e.verdict.contains("faces away from every light"),
+        "{}",
+        e.verdict
+    );
+    assert!(!e.verdict.starts_with("black"), "{}", e.verdict);
+    assert!(
+        e.verdict.contains("reflects or lets through"),
+        "{}",
+        e.verdict
+    );
+}

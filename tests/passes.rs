@@ -113,8 +113,8 @@ fn passes_leave_the_picture_alone_and_follow_a_region() {
             .unwrap_or_else(|e| panic!("{e}"));
         for aov in Aov::ALL {
             let (whole, cut) = (
-                f.plane(aov.name()).map(|p| &p.data),
-                part.plane(aov.name()).map(|p| &p.data),
+                f.plane(&aov.name()).map(|p| &p.data),
+                part.plane(&aov.name()).map(|p| &p.data),
             );
             let (Some(whole), Some(cut)) = (whole, cut) else {
                 panic!("{} missing", aov.name());
@@ -230,8 +230,8 @@ fn an_exr_holds_the_passes_as_layers() {
                 .unwrap_or_default()
         })
         .collect();
-    let want: Vec<&str> = std::iter::once("color")
-        .chain(Aov::ALL.iter().map(|a| a.name()))
+    let want: Vec<String> = std::iter::once("color".to_string())
+        .chain(Aov::ALL.iter().map(|a| a.name().into_owned()))
         .collect();
     assert_eq!(names, want);
     let depth = &image.layer_data[2].channel_data.list[0].sample_data;
@@ -286,4 +286,179 @@ fn the_rays_pass_counts_each_pixels_rays() {
         .map_or(0.0, |p| p.data.iter().map(|&v| v as f64).sum());
     assert_eq!(sum, stats.rays.total() as f64);
     assert!(stats.refined_pixels > 0);
+}
+
+/// Diffuse and specular only (no reflection or refraction), a point light
+/// and a square light, one bright enough to clamp: the picture at --spp 1
+/// is the clamped sum of the light:N planes.
+const LIT: &str = "background\n color= 0.2 0.3 0.4\nend\n\
+camera\n O= 0 -8 3\n N= 0 1 -0.3\n image_W= 40\n image_H= 30\n shade_quality= 1\nend\n\
+light point\n O= 4 -6 8\n color= 1.6 1.6 1.6\nend\n\
+light square\n O= -3 -2 6\n Dx= 0.7 0 0\n Dy= 0 0.7 0\n color= 0.5 0.4 0.3\nend\n\
+primitive plane\n N= 0 0 1\n R= 0\n color= 0.8 0.7 0.6\n diff= 0.7\nend\n\
+primitive sphere\n O= -1.2 -0.5 1\n R= 1\n color= 0.1 0.9 0.3\n diff= 0.5\n spec= 0.4\nend\n\
+primitive cube\n O= 1.5 0 1\n x= 0.7\n y= 0.7\n z= 0.7\n color= 1 0.3 0.2\n diff= 0.6\nend\n";
+
+fn lit_film(aovs: Vec<Aov>) -> (Scene, Film) {
+    let s = Scene::parse(LIT, ".").unwrap_or_else(|e| panic!("{e}"));
+    let r = Renderer::new(s.clone());
+    let options = RenderOptions {
+        spp: Some(1),
+        aovs,
+        ..RenderOptions::default()
+    };
+    (s, r.render(&options).unwrap_or_else(|e| panic!("{e}")))
+}
+
+#[test]
+fn the_lights_sum_to_the_picture_and_the_clamp_is_the_excess() {
+    let (s, f) = lit_film(vec![
+        Aov::Light(0),
+        Aov::Light(1),
+        Aov::Clamp,
+        Aov::Primitive,
+    ]);
+    let plane = |name: &str| f.plane(name).unwrap_or_else(|| panic!("no {name} plane"));
+    let (l0, l1, clamp, prim) = (
+        plane("light:0"),
+        plane("light:1"),
+        plane("clamp"),
+        plane("primitive"),
+    );
+    let cam = s.camera();
+    let (mut lit, mut clamped) = (0, 0);
+    for y in 0..cam.height {
+        for x in 0..cam.width {
+            let i = (y * cam.width + x) as usize;
+            if prim.data[i] < 0.0 {
+                // Background or a light's surface: no light terms, no clamp here.
+                assert!((0..3).all(|c| l0.data[3 * i + c] == 0.0 && clamp.data[3 * i + c] == 0.0));
+                continue;
+            }
+            let px = f.image().pixel(x, y);
+            for (c, &got) in px.iter().enumerate() {
+                let sum = l0.data[3 * i + c] as f64 + l1.data[3 * i + c] as f64;
+                let want = sum.min(1.0);
+                assert!(
+                    (got as f64 - want).abs() < 1e-5,
+                    "({x}, {y}) channel {c}: picture {got} but lights sum to {sum}"
+                );
+                let over = (sum - 1.0).max(0.0);
+                assert!(
+                    (clamp.data[3 * i + c] as f64 - over).abs() < 1e-5,
+                    "({x}, {y}) clamp"
+                );
+                lit += usize::from(sum > 0.0);
+                clamped += usize::from(over > 0.0);
+            }
+        }
+    }
+    // The planted scene has both lit and clamped pixels.
+    assert!(
+        lit > 1000 && clamped > 50,
+        "{lit} lit, {clamped} clamped channels"
+    );
+}
+
+#[test]
+fn shade_and_why_follow_shadow_rays_traced_by_the_probe() {
+    // One point light: the shade factor is 1 or 0, and the verdict's kind
+    // is background, faces away, in shadow, or lit.
+    let text = LIT.replace(
+        "light square\n O= -3 -2 6\n Dx= 0.7 0 0\n Dy= 0 0.7 0\n color= 0.5 0.4 0.3\nend\n",
+        "",
+    );
+    let s = Scene::parse(&text, ".").unwrap_or_else(|e| panic!("{e}"));
+    let r = Renderer::new(s.clone());
+    let options = RenderOptions {
+        spp: Some(1),
+        aovs: vec![Aov::Shade, Aov::Why],
+        ..RenderOptions::default()
+    };
+    let f = r.render(&options).unwrap_or_else(|e| panic!("{e}"));
+    let (shade, why) = (f.plane("shade").unwrap(), f.plane("why").unwrap());
+    let cam = s.camera().clone();
+    let light = DVec3::new(4.0, -6.0, 8.0);
+    // The legend's order (docs/debugging.md): background 0, faces away 5, in shadow 6, lit 8.
+    let mut seen = [0; 9];
+    for y in 0..cam.height {
+        for x in 0..cam.width {
+            let i = (y * cam.width + x) as usize;
+            let d = camera_dir(
+                cam.dir,
+                (cam.lens_w, cam.lens_h),
+                (cam.width, cam.height),
+                x,
+                y,
+            );
+            let (want_shade, want_why) = match r.probe(cam.origin, d) {
+                None => (None, 0),
+                Some(h) => {
+                    let to = light - h.point;
+                    if to.dot(h.normal) <= 0.0 {
+                        (None, 5)
+                    } else {
+                        let from = h.point + h.normal * 1e-7;
+                        let blocked = r.probe(from, to).is_some_and(|b| b.t < to.length());
+                        if blocked {
+                            (Some(0.0), 6)
+                        } else {
+                            (Some(1.0), 8)
+                        }
+                    }
+                }
+            };
+            assert_eq!(why.data[i], want_why as f32, "why at ({x}, {y})");
+            let got = (shade.data[2 * i], shade.data[2 * i + 1]);
+            match want_shade {
+                Some(v) => assert_eq!(got, (v, v), "shade at ({x}, {y})"),
+                None => assert_eq!(got, (0.0, 0.0), "shade at ({x}, {y})"),
+            }
+            seen[want_why] += 1;
+        }
+    }
+    assert!(
+        seen[0] > 0 && seen[5] > 0 && seen[6] > 0 && seen[8] > 0,
+        "{seen:?}"
+    );
+}
+
+#[test]
+fn cost_counts_the_tests_a_first_hit_needs() {
+    // Planes alone are tested one by one: no leaf, one test each.
+    let planes = "camera\n O= 0 -8 3\n N= 0 1 -0.3\n image_W= 20\n image_H= 15\nend\n\
+                  primitive plane\n N= 0 0 1\n R= 0\n color= 1 1 1\n diff= 1\nend\n\
+                  primitive plane\n N= 0 -1 0\n R= -5\n color= 1 1 1\n diff= 1\nend\n";
+    let r = Renderer::new(Scene::parse(planes, ".").unwrap_or_else(|e| panic!("{e}")));
+    let options = RenderOptions {
+        aovs: vec![Aov::Cost],
+        ..RenderOptions::default()
+    };
+    let f = r.render(&options).unwrap_or_else(|e| panic!("{e}"));
+    let cost = f.plane("cost").unwrap();
+    assert!(
+        cost.data.chunks(2).all(|c| c == [0.0, 2.0]),
+        "{:?}",
+        &cost.data[..8]
+    );
+    // SCENE: a plane and two bounded objects. A pixel whose centre ray hits a
+    // bounded one tested it in a leaf, besides the plane; nothing tests
+    // more than the three objects.
+    let (s, r, f) = film(None);
+    let (cost, prim) = (f.plane("cost").unwrap(), f.plane("primitive").unwrap());
+    let cam = s.camera();
+    let mut bounded = 0;
+    for i in 0..(cam.width * cam.height) as usize {
+        let (leaves, tests) = (cost.data[2 * i], cost.data[2 * i + 1]);
+        assert!(
+            (1.0..=3.0).contains(&tests) && leaves <= tests - 1.0,
+            "pixel {i}: {leaves} {tests}"
+        );
+        if prim.data[i] >= 1.0 {
+            bounded += 1;
+            assert!(leaves >= 1.0 && tests >= 2.0, "pixel {i}: {leaves} {tests}");
+        }
+    }
+    assert!(bounded > 50, "{bounded}");
+    let _ = r;
 }

@@ -102,13 +102,31 @@ impl<P: Primitive> Accel<P> {
 
     /// The nearest hit with `ray.t_min` < t < `t_max`: the object's index and the hit.
     /// Of hits at the same distance, the lowest index wins.
+    #[inline]
     pub fn intersect(&self, ray: &Ray, t_max: f64) -> Option<(u32, Hit)> {
+        self.intersect_tallied(ray, t_max, &mut |_, _| {})
+    }
+
+    /// [`Accel::intersect`], telling `tally(leaf, n)` of each group of `n`
+    /// primitives tested: the unbounded ones (`leaf` false, if any), then
+    /// each BVH leaf reached (for the `cost` pass; a no-op `tally` costs nothing).
+    #[inline(always)]
+    pub fn intersect_tallied(
+        &self,
+        ray: &Ray,
+        t_max: f64,
+        tally: &mut impl FnMut(bool, usize),
+    ) -> Option<(u32, Hit)> {
         let mut best: Option<(u32, Hit)> = None;
         let mut t_best = t_max;
+        if !self.unbounded.is_empty() {
+            tally(false, self.unbounded.len());
+        }
         for &i in &self.unbounded {
             self.test(i, ray, &mut best, &mut t_best);
         }
         self.bvh.traverse(None, ray, &mut t_best, |prims, t_best| {
+            tally(true, prims.len());
             for &i in prims {
                 self.test(i, ray, &mut best, t_best);
             }

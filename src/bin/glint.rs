@@ -29,6 +29,60 @@ enum Command {
     Probe(ProbeArgs),
     /// Explain one pixel: its ray tree as `render` traces it, its bytes and why.
     Explain(ExplainArgs),
+    /// Lint a scene without rendering it: findings with file:line, what is
+    /// wrong and what to change (exit 0; 1 with --deny-warnings when there
+    /// are any; 2 when the scene cannot be read).
+    Check(CheckArgs),
+    /// Compare your own render with glint's: a heat map, and the differing
+    /// pixels grouped by the primitive glint sees there, worst first.
+    Compare(CompareArgs),
+}
+
+#[derive(Args)]
+struct CompareArgs {
+    /// The scene file.
+    scene: PathBuf,
+    /// Your render of it (.bmp or .png), the scene's size.
+    theirs: PathBuf,
+    /// Write the heat map here (.png or .bmp): glint's picture dimmed, the
+    /// differing pixels from red to white.
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Render glint's picture this wide, as `render --width` does.
+    #[arg(long)]
+    width: Option<u32>,
+    /// Render glint's picture this high, as `render --height` does.
+    #[arg(long)]
+    height: Option<u32>,
+    /// Stratified samples per pixel, as for `render` (default: adaptive anti-aliasing).
+    #[arg(long, value_parser = at_least_one::<u32>)]
+    spp: Option<u32>,
+    /// A pixel differs when a channel is off by more than this (8-bit steps).
+    #[arg(long, default_value_t = glint::DEFAULT_THRESHOLD)]
+    threshold: u8,
+    /// One JSON object on stdout (schema: docs/debugging.md).
+    #[arg(long)]
+    json: bool,
+    /// The lineage whose renderer's model draws the file: f, z14, pm3, v or w
+    /// (or a repository's name) [default: chosen by the file's markers]
+    #[arg(long, value_parser = dialect)]
+    dialect: Option<Dialect>,
+}
+
+#[derive(Args)]
+struct CheckArgs {
+    /// The scene file.
+    scene: PathBuf,
+    /// Exit with status 1 when there is any warning (the reader's or a finding).
+    #[arg(long)]
+    deny_warnings: bool,
+    /// One JSON object on stdout (schema: docs/debugging.md).
+    #[arg(long)]
+    json: bool,
+    /// The lineage whose renderer's model draws the file: f, z14, pm3, v or w
+    /// (or a repository's name) [default: chosen by the file's markers]
+    #[arg(long, value_parser = dialect)]
+    dialect: Option<Dialect>,
 }
 
 #[derive(Args)]
@@ -105,7 +159,8 @@ struct RenderArgs {
     #[arg(short, long)]
     verbose: bool,
     /// Passes to write beside the picture, comma-separated: normal, depth,
-    /// position, uv, primitive, albedo, rays (layers of an .exr; else OUT.PASS.EXT files).
+    /// position, uv, primitive, albedo, rays, light:N, shade, why, clamp, cost
+    /// (layers of an .exr; else OUT.PASS.EXT files).
     #[arg(long)]
     aov: Option<String>,
     /// Render only columns X0..X1 and rows Y0..Y1 (ends excluded, rows from
@@ -229,6 +284,8 @@ enum Failure {
     Error(String),
     /// SIGINT or SIGTERM arrived: "interrupted", exit code 130.
     Interrupted,
+    /// Nothing more to say, and this exit code (`check --deny-warnings`: 1).
+    Status(u8),
 }
 
 /// A [`Failure::Error`] with the message `message`.
@@ -277,6 +334,8 @@ fn main() -> ExitCode {
         Command::Render(args) => run_render(args, &interrupt_flag()),
         Command::Probe(args) => run_probe(args),
         Command::Explain(args) => run_explain(args),
+        Command::Check(args) => run_check(args),
+        Command::Compare(args) => run_compare(args, &interrupt_flag()),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -290,7 +349,80 @@ fn main() -> ExitCode {
             say("interrupted");
             ExitCode::from(130)
         }
+        Err(Failure::Status(code)) => ExitCode::from(code),
     }
+}
+
+fn run_compare(args: CompareArgs, interrupt: &AtomicBool) -> Result<(), Failure> {
+    if let Some(out) = &args.output {
+        refuse_scene_as_output(&args.scene, out)?;
+        refuse_scene_as_output(&args.theirs, out)?;
+        Format::from_path(out).map_err(|e| fail(format!("error: -o: {e}")))?;
+    }
+    let scene = load_scene(&args.scene, args.dialect, true)?;
+    let (theirs, size) =
+        glint::read_picture(&args.theirs).map_err(|e| fail(format!("error: {e}")))?;
+    let renderer = Renderer::new(scene);
+    let options = RenderOptions {
+        width: args.width,
+        height: args.height,
+        spp: args.spp,
+        ..RenderOptions::default()
+    };
+    let c = glint::compare(&renderer, &theirs, size, args.threshold, &options).map_err(
+        |e| match e {
+            glint::CompareError::Size { .. } => {
+                fail(format!("error: {}: {e}", args.theirs.display()))
+            }
+            glint::CompareError::Render(r) => render_failure(r),
+        },
+    )?;
+    check_interrupt(interrupt)?;
+    if let Some(out) = &args.output {
+        let saved = c.heat.save_unless(out, interrupt);
+        check_interrupt(interrupt)?;
+        saved.map_err(|e| fail(format!("error: cannot write the heat map: {e}")))?;
+    }
+    let text = if args.json {
+        format!("{}\n", c.to_json())
+    } else {
+        shown(&c.to_text()).into_owned()
+    };
+    let _ = std::io::stdout().write_all(text.as_bytes());
+    Ok(())
+}
+
+fn run_check(args: CheckArgs) -> Result<(), Failure> {
+    let colour = colour();
+    let file = Some(args.scene.display().to_string());
+    let out = |text: String| {
+        let _ = std::io::stdout().write_all(text.as_bytes());
+    };
+    // The reader's diagnostics go to stderr as `render` prints them.
+    let scene = match Scene::from_file_as(&args.scene, args.dialect) {
+        Ok(scene) => scene,
+        Err(e) => {
+            say_raw(&e.render(colour));
+            if args.json {
+                let report = glint::CheckReport::unreadable(file, &e.diagnostics);
+                out(format!("{}\n", report.to_json()));
+            }
+            return Err(fail(""));
+        }
+    };
+    for w in scene.warnings() {
+        say_raw(&format!("{}\n", w.render(colour)));
+    }
+    let report = glint::check(&Renderer::new(scene));
+    if args.json {
+        out(format!("{}\n", report.to_json()));
+    } else {
+        out(shown(&report.to_text()).into_owned());
+    }
+    if args.deny_warnings && report.warnings() > 0 {
+        return Err(Failure::Status(1));
+    }
+    Ok(())
 }
 
 /// Reads a scene, printing its warnings, or its errors (already escaped, so

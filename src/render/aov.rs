@@ -1,11 +1,13 @@
 //! Passes (AOVs): what the centre ray of each pixel first hits, stored as
 //! named planes of the film beside the picture. One nearest-hit query per
-//! pixel, no shading: a small cost beside the render.
+//! pixel, no shading: a small cost beside the render. (The passes of the
+//! camera hit's shading, `light:N`, `shade`, `why`, `clamp`, are traced in
+//! `shading_passes`.)
 
 use super::film::Region;
 use super::frame::Frame;
 use crate::integrator::SceneAccel;
-use crate::scene::{Origin, Scene};
+use crate::scene::{Material, Origin, Scene};
 use rayon::prelude::*;
 
 /// A pass a render can write beside its picture.
@@ -26,11 +28,24 @@ pub enum Aov {
     /// Rays traced for the pixel (camera, reflected, refracted, shadow;
     /// the 7×7 grid's too where the anti-aliasing refined it).
     Rays,
+    /// Light N's diffuse and specular at the centre ray's hit: colour ×
+    /// texture × the light's colour × (diffuse + specular weight), RGB.
+    Light(u32),
+    /// The shade factors at the centre ray's hit over the lights it faces
+    /// (L·N > 0): their mean and their smallest (0 where it faces none).
+    Shade,
+    /// The verdict's kind at the centre ray (its index in the legend).
+    Why,
+    /// What the clamp cut at the centre ray's hit: the sum above 1 per channel.
+    Clamp,
+    /// The centre ray's nearest-hit query: BVH leaves reached and
+    /// primitives tested (unbounded ones, planes, count as tests, not leaves).
+    Cost,
 }
 
 impl Aov {
-    /// Every pass, in the order they are documented.
-    pub const ALL: [Aov; 7] = [
+    /// Every pass, in the order they are documented (`light:N` as light 0).
+    pub const ALL: [Aov; 12] = [
         Aov::Normal,
         Aov::Depth,
         Aov::Position,
@@ -38,41 +53,70 @@ impl Aov {
         Aov::Primitive,
         Aov::Albedo,
         Aov::Rays,
+        Aov::Light(0),
+        Aov::Shade,
+        Aov::Why,
+        Aov::Clamp,
+        Aov::Cost,
     ];
 
     /// Its name, as `--aov` takes it and as the film's plane is called.
-    pub fn name(self) -> &'static str {
+    pub fn name(self) -> std::borrow::Cow<'static, str> {
         match self {
-            Aov::Normal => "normal",
-            Aov::Depth => "depth",
-            Aov::Position => "position",
-            Aov::Uv => "uv",
-            Aov::Primitive => "primitive",
-            Aov::Albedo => "albedo",
-            Aov::Rays => "rays",
+            Aov::Normal => "normal".into(),
+            Aov::Depth => "depth".into(),
+            Aov::Position => "position".into(),
+            Aov::Uv => "uv".into(),
+            Aov::Primitive => "primitive".into(),
+            Aov::Albedo => "albedo".into(),
+            Aov::Rays => "rays".into(),
+            Aov::Light(n) => format!("light:{n}").into(),
+            Aov::Shade => "shade".into(),
+            Aov::Why => "why".into(),
+            Aov::Clamp => "clamp".into(),
+            Aov::Cost => "cost".into(),
         }
     }
 
     /// Values per pixel.
     pub fn channels(self) -> usize {
         match self {
-            Aov::Normal | Aov::Position | Aov::Albedo => 3,
-            Aov::Uv => 2,
-            Aov::Depth | Aov::Primitive | Aov::Rays => 1,
+            Aov::Normal | Aov::Position | Aov::Albedo | Aov::Light(_) | Aov::Clamp => 3,
+            Aov::Uv | Aov::Shade | Aov::Cost => 2,
+            Aov::Depth | Aov::Primitive | Aov::Rays | Aov::Why => 1,
         }
+    }
+
+    /// Whether it comes from the camera hit's shading (traced apart).
+    pub(crate) fn shaded(self) -> bool {
+        matches!(self, Aov::Light(_) | Aov::Shade | Aov::Why | Aov::Clamp)
     }
 
     /// A comma-separated list of pass names (repeats kept once).
     pub fn parse_list(list: &str) -> Result<Vec<Aov>, String> {
         let mut out = Vec::new();
         for word in list.split(',').map(str::trim) {
-            let aov = Aov::ALL
-                .into_iter()
-                .find(|a| a.name() == word)
-                .ok_or_else(|| {
-                    let names: Vec<_> = Aov::ALL.iter().map(|a| a.name()).collect();
-                    format!("unknown pass `{word}`; the passes are {}", names.join(", "))
-                })?;
+            let light = word.strip_prefix("light:").map(|n| {
+                n.parse::<u32>()
+                    .map(Aov::Light)
+                    .map_err(|_| format!("`{word}`: expected `light:N`, N a light's index from 0"))
+            });
+            let aov = match light {
+                Some(found) => found?,
+                None => Aov::ALL
+                    .into_iter()
+                    .find(|a| a.name() == word)
+                    .ok_or_else(|| {
+                        let names: Vec<_> = Aov::ALL
+                            .iter()
+                            .map(|a| match a {
+                                Aov::Light(_) => "light:N".into(),
+                                _ => a.name(),
+                            })
+                            .collect();
+                        format!("unknown pass `{word}`; the passes are {}", names.join(", "))
+                    })?,
+            };
             if !out.contains(&aov) {
                 out.push(aov);
             }
@@ -91,6 +135,7 @@ pub(crate) fn first_hit_planes(
 ) -> Vec<(Aov, Vec<f32>)> {
     let per_pixel: usize = aovs.iter().map(|a| a.channels()).sum();
     let rw = region.width as usize;
+    let cost = aovs.contains(&Aov::Cost);
     let mut all = vec![0f32; region.area() as usize * per_pixel];
     all.par_chunks_mut(rw * per_pixel)
         .enumerate()
@@ -98,11 +143,24 @@ pub(crate) fn first_hit_planes(
             let y = region.y + row as u32;
             for (i, px) in values.chunks_mut(per_pixel).enumerate() {
                 let ray = frame.ray(region.x + i as u32, y, 0.5, 0.5);
-                let found = accel.intersect(&ray, f64::INFINITY);
+                let mut tally = (0u32, 0u32);
+                let found = if cost {
+                    accel.intersect_tallied(&ray, f64::INFINITY, &mut |leaf, n| {
+                        tally.0 += u32::from(leaf);
+                        tally.1 += n as u32;
+                    })
+                } else {
+                    accel.intersect(&ray, f64::INFINITY)
+                };
                 let mut at = 0;
                 for &aov in aovs {
                     let out = &mut px[at..at + aov.channels()];
                     at += aov.channels();
+                    if aov == Aov::Cost {
+                        out[0] = tally.0 as f32;
+                        out[1] = tally.1 as f32;
+                        continue;
+                    }
                     let Some((index, hit)) = found else {
                         if aov == Aov::Primitive {
                             out[0] = -1.0;
@@ -129,15 +187,15 @@ pub(crate) fn first_hit_planes(
                                 Origin::Light(l) => -2.0 - l as f32,
                             }
                         }
-                        // Counted by the render itself, not here.
-                        Aov::Rays => {}
+                        // Counted by the render itself, or traced apart.
+                        Aov::Rays
+                        | Aov::Light(_)
+                        | Aov::Shade
+                        | Aov::Why
+                        | Aov::Clamp
+                        | Aov::Cost => {}
                         Aov::Albedo => {
-                            let m = scene.material_of(object);
-                            let texture = m.texture.and_then(|t| scene.textures().get(t as usize));
-                            let k = match texture {
-                                Some(t) => m.color * t.sample(s.uv),
-                                None => m.color,
-                            };
+                            let k = albedo(scene, &scene.material_of(object), s.uv);
                             put(out, &k.to_array());
                         }
                     }
@@ -156,4 +214,12 @@ pub(crate) fn first_hit_planes(
         }
     }
     planes
+}
+
+/// The material's colour × its texture at `uv` (what diffuse and specular scale).
+pub(crate) fn albedo(scene: &Scene, m: &Material, uv: glam::DVec2) -> glam::DVec3 {
+    match m.texture.and_then(|t| scene.textures().get(t as usize)) {
+        Some(t) => m.color * t.sample(uv),
+        None => m.color,
+    }
 }

@@ -11,12 +11,14 @@ mod frame;
 mod passes;
 mod report;
 mod schedule;
+mod shading_passes;
 mod verdict;
 
 pub use aov::Aov;
 pub use explain::{Explanation, Sampling};
 pub use film::{Film, Plane, Region};
 pub use schedule::MAX_THREADS;
+pub(crate) use verdict::{Cause, place};
 
 use crate::integrator::{Integrator, RayCounts, SceneAccel};
 use crate::output::Image;
@@ -169,6 +171,22 @@ impl Renderer {
         &self.accel
     }
 
+    /// The scene it renders (its surfaces are in [`Renderer::accel`]).
+    pub(crate) fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// The ray through the centre of pixel (x, y) of a `w` × `h` render,
+    /// as the render traces it.
+    pub(crate) fn centre_rays(
+        &self,
+        w: u32,
+        h: u32,
+    ) -> impl Fn(u32, u32) -> crate::geometry::Ray + '_ {
+        let frame = self.frame(w, h, 0);
+        move |x, y| frame.ray(x, y, 0.5, 0.5)
+    }
+
     /// How long building the acceleration structure took.
     pub fn build_time(&self) -> Duration {
         self.build
@@ -286,7 +304,7 @@ impl Renderer {
             .aovs
             .iter()
             .copied()
-            .filter(|&a| a != Aov::Rays)
+            .filter(|&a| a != Aov::Rays && !a.shaded())
             .collect();
         let mut planes = if first_hit.is_empty() {
             Vec::new()
@@ -295,13 +313,18 @@ impl Renderer {
                 aov::first_hit_planes(&frame, &self.scene, &self.accel, region, &first_hit)
             })
         };
+        if options.aovs.iter().any(|a| a.shaded()) {
+            planes.extend(schedule::with_threads(options.threads, || {
+                shading_passes::shading_planes(&frame, &self.scene, region, &options.aovs)
+            }));
+        }
         if let Some(counts) = done.rays_per_pixel {
             planes.push((Aov::Rays, counts));
         }
         // In the order asked for.
         for &aov in &options.aovs {
             if let Some((_, data)) = planes.iter_mut().find(|(a, _)| *a == aov) {
-                film.set_plane(aov.name(), aov.channels(), std::mem::take(data));
+                film.set_plane(&aov.name(), aov.channels(), std::mem::take(data));
             }
         }
         let stats = RenderStats {

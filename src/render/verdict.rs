@@ -26,7 +26,7 @@ pub(crate) fn verdict(samples: &[RayNode], bytes: [u8; 3], file: Option<&str>) -
     let Some(root) = samples.first() else {
         return "no sample was traced".to_string();
     };
-    let mut said = vec![cause(root, bytes, file)];
+    let mut said = vec![cause(root, bytes, file).1];
     if samples.len() > 1 {
         let misses = samples.iter().filter(|s| s.hit.is_none()).count();
         let mut firsts: Vec<Option<u32>> = samples
@@ -64,26 +64,99 @@ pub(crate) fn verdict(samples: &[RayNode], bytes: [u8; 3], file: Option<&str>) -
     said.join(" ")
 }
 
-/// The main cause, from the first sample's tree.
-fn cause(root: &RayNode, bytes: [u8; 3], file: Option<&str>) -> String {
+/// The kinds of main cause a verdict names (the `why` pass's colours).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Cause {
+    /// The camera ray misses everything.
+    Background,
+    /// It sees an area light's surface.
+    Light,
+    /// An all-zero material.
+    ZeroMaterial,
+    /// No diffuse or specular term: the colour is reflected or refracted light.
+    Carried,
+    /// The scene has no light.
+    NoLights,
+    /// The hit faces away from every light.
+    FacesAway,
+    /// Every light it faces is blocked.
+    Shadow,
+    /// Lit by one light while others face away or are blocked.
+    OneLightAlone,
+    /// Lit by every light it faces, or by several.
+    Lit,
+}
+
+impl Cause {
+    /// Every kind, in the order of the legend.
+    pub const ALL: [Cause; 9] = [
+        Cause::Background,
+        Cause::Light,
+        Cause::ZeroMaterial,
+        Cause::Carried,
+        Cause::NoLights,
+        Cause::FacesAway,
+        Cause::Shadow,
+        Cause::OneLightAlone,
+        Cause::Lit,
+    ];
+
+    /// Its name in the legend.
+    pub fn name(self) -> &'static str {
+        match self {
+            Cause::Background => "background",
+            Cause::Light => "light",
+            Cause::ZeroMaterial => "zero material",
+            Cause::Carried => "reflection or refraction only",
+            Cause::NoLights => "no light in the scene",
+            Cause::FacesAway => "faces away from every light",
+            Cause::Shadow => "in shadow",
+            Cause::OneLightAlone => "lit by one light alone",
+            Cause::Lit => "lit",
+        }
+    }
+
+    /// Its colour in the `why` pass (8-bit sRGB-free bytes, as written).
+    pub fn colour(self) -> [u8; 3] {
+        match self {
+            Cause::Background => [40, 40, 40],
+            Cause::Light => [255, 255, 255],
+            Cause::ZeroMaterial => [255, 0, 255],
+            Cause::Carried => [0, 160, 255],
+            Cause::NoLights => [128, 0, 0],
+            Cause::FacesAway => [255, 60, 0],
+            Cause::Shadow => [140, 70, 255],
+            Cause::OneLightAlone => [255, 210, 0],
+            Cause::Lit => [60, 200, 60],
+        }
+    }
+}
+
+/// The main cause, from the first sample's tree: its kind and sentence.
+pub(crate) fn cause(root: &RayNode, bytes: [u8; 3], file: Option<&str>) -> (Cause, String) {
     let Some(hit) = &root.hit else {
-        return "background: the camera ray misses every object, so the pixel is the background's colour."
-            .to_string();
+        return (Cause::Background, "background: the camera ray misses every object, so the pixel is the background's colour."
+            .to_string());
     };
     let what = named(hit, file);
     if hit.light.is_some() {
-        return format!(
-            "light: the camera ray sees {what} directly, which shows the light's colour."
+        return (
+            Cause::Light,
+            format!("light: the camera ray sees {what} directly, which shows the light's colour."),
         );
     }
     let Some(m) = root.material else {
-        return format!("the camera ray hits {what}.");
+        return (Cause::Lit, format!("the camera ray hits {what}."));
     };
-    let zero = m.color == glam::DVec3::ZERO
-        || (m.diff <= 0.0 && m.spec <= 0.0 && m.refl <= 0.0 && m.refr <= 0.0);
+    // The colour scales diffuse, specular and reflection; refraction not.
+    let coloured = m.diff > 0.0 || m.spec > 0.0 || m.refl > 0.0;
+    let zero = m.refr <= 0.0 && (m.color == glam::DVec3::ZERO || !coloured);
     if zero {
-        return format!(
-            "black: the material of {what} is all zero (colour or every one of diff, spec, refl, refr), so it neither reflects light nor lets any through."
+        return (
+            Cause::ZeroMaterial,
+            format!(
+                "black: the material of {what} is all zero (colour or every one of diff, spec, refl, refr), so it neither reflects light nor lets any through."
+            ),
         );
     }
     let side = if hit.front {
@@ -98,17 +171,26 @@ fn cause(root: &RayNode, bytes: [u8; 3], file: Option<&str>) -> String {
         .unclamped
         .is_some_and(|u| u.max_element() > 1.0 && bytes.contains(&255));
     let light_name = |i: u32, line| format!("light #{i} ({})", place(file, line));
-    let main = if !lit_keys {
-        format!(
-            "{what}{side} has no diffuse or specular term: its colour comes only from what it reflects or lets through."
+    let (kind, main) = if !lit_keys {
+        (
+            Cause::Carried,
+            format!(
+                "{what}{side} has no diffuse or specular term: its colour comes only from what it reflects or lets through."
+            ),
         )
     } else if root.lights.is_empty() {
-        format!(
-            "{what}{side} is seen, but the scene has no light, and the model has no ambient term."
+        (
+            Cause::NoLights,
+            format!(
+                "{what}{side} is seen, but the scene has no light, and the model has no ambient term."
+            ),
         )
     } else if facing.is_empty() {
-        format!(
-            "black: the camera ray hits {what}{side}, which faces away from every light, and the model has no ambient term (the framework renders it black too)."
+        (
+            Cause::FacesAway,
+            format!(
+                "black: the camera ray hits {what}{side}, which faces away from every light, and the model has no ambient term (the framework renders it black too)."
+            ),
         )
     } else if lit.is_empty() {
         let blocked = facing.iter().find_map(|l| {
@@ -125,11 +207,11 @@ fn cause(root: &RayNode, bytes: [u8; 3], file: Option<&str>) -> String {
                 )
             })
         });
-        blocked.unwrap_or_else(|| {
+        (Cause::Shadow, blocked.unwrap_or_else(|| {
             format!(
                 "in shadow: {what}{side} faces the lights, but every shadow ray towards them is blocked."
             )
-        })
+        }))
     } else if let [l] = lit[..] {
         let by = format!(
             "{} (shade {}/{})",
@@ -138,23 +220,47 @@ fn cause(root: &RayNode, bytes: [u8; 3], file: Option<&str>) -> String {
             l.rays
         );
         if root.lights.len() > 1 {
-            format!(
-                "lit by {by} alone: the other lights face away from {what}{side} or are blocked."
+            (
+                Cause::OneLightAlone,
+                format!(
+                    "lit by {by} alone: the other lights face away from {what}{side} or are blocked."
+                ),
             )
         } else {
-            format!("{what}{side} is lit by the scene's one light, {by}.")
+            (
+                Cause::Lit,
+                format!("{what}{side} is lit by the scene's one light, {by}."),
+            )
         }
     } else {
-        format!(
-            "{what}{side} is lit by {} of the scene's {} lights.",
-            lit.len(),
-            root.lights.len()
+        (
+            Cause::Lit,
+            format!(
+                "{what}{side} is lit by {} of the scene's {} lights.",
+                lit.len(),
+                root.lights.len()
+            ),
         )
     };
-    if clamped {
-        format!("{main} Clamped: the sum exceeds 1 in a channel and is cut to 1 (byte 255).")
+    // No direct light, but a mirror or glass term still carries colour.
+    let carried = m.refl > 0.0 || m.refr > 0.0;
+    let main = if carried && matches!(kind, Cause::FacesAway | Cause::Shadow | Cause::NoLights) {
+        let direct = main
+            .trim_start_matches("black: ")
+            .replace(" (the framework renders it black too)", "");
+        format!(
+            "{direct} No light reaches it directly: its colour comes only from what it reflects or lets through."
+        )
     } else {
         main
+    };
+    if clamped {
+        (
+            kind,
+            format!("{main} Clamped: the sum exceeds 1 in a channel and is cut to 1 (byte 255)."),
+        )
+    } else {
+        (kind, main)
     }
 }
 

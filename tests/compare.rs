@@ -1,0 +1,171 @@
+//! `glint compare`: a planted defect's primitive ranks first; sizes that
+//! differ are an error; the command writes the heat map and JSON.
+
+use glint::{Aov, CompareError, RenderOptions, Renderer, Scene, compare};
+use std::process::Command;
+
+const SCENE: &str = "background\n color= 0.2 0.3 0.4\nend\n\
+camera\n O= 0 -8 3\n N= 0 1 -0.3\n image_W= 48\n image_H= 36\nend\n\
+light point\n O= 4 -6 8\n color= 1 1 1\nend\n\
+primitive plane\n N= 0 0 1\n R= 0\n color= 0.8 0.7 0.6\n diff= 0.7\nend\n\
+primitive sphere\n O= -1.2 -0.5 1\n R= 1\n color= 0.1 0.9 0.3\n diff= 0.8\nend\n\
+primitive cube\n O= 1.5 0 1\n x= 0.7\n y= 0.7\n z= 0.7\n color= 1 0.3 0.2\n diff= 0.6\nend\n";
+
+/// The 1-based line of the header of primitive block `block` of [`SCENE`].
+fn block_line(block: u32) -> u64 {
+    let at = SCENE
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| l.starts_with("primitive"))
+        .nth(block as usize)
+        .map_or(0, |(i, _)| i + 1);
+    at as u64
+}
+
+fn renderer() -> Renderer {
+    Renderer::new(Scene::parse(SCENE, ".").unwrap_or_else(|e| panic!("{e}")))
+}
+
+/// Glint's own bytes, and the primitive plane.
+fn ours(r: &Renderer) -> (Vec<u8>, Vec<f32>) {
+    let options = RenderOptions {
+        aovs: vec![Aov::Primitive],
+        ..RenderOptions::default()
+    };
+    let film = r.render(&options).unwrap_or_else(|e| panic!("{e}"));
+    let prim = film
+        .plane("primitive")
+        .map(|p| p.data.clone())
+        .unwrap_or_default();
+    (film.image().to_rgb8(), prim)
+}
+
+#[test]
+fn glints_own_render_does_not_differ() {
+    let r = renderer();
+    let (bytes, _) = ours(&r);
+    let c = compare(&r, &bytes, (48, 36), 8, &RenderOptions::default())
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!((c.differing, c.groups.len()), (0, 0));
+}
+
+#[test]
+fn a_recoloured_primitive_ranks_first() {
+    let r = renderer();
+    for block in [1u32, 2] {
+        let (mut bytes, prim) = ours(&r);
+        // A broken intersection: the block's pixels black in "theirs", and
+        // a few background pixels off by a little less than the threshold.
+        let mut planted = 0;
+        for (i, &p) in prim.iter().enumerate() {
+            if p == block as f32 && bytes[3 * i..3 * i + 3].iter().any(|&b| b > 8) {
+                bytes[3 * i..3 * i + 3].copy_from_slice(&[0, 0, 0]);
+                planted += 1;
+            } else if p == -1.0 {
+                bytes[3 * i] = bytes[3 * i].saturating_add(8);
+            }
+        }
+        assert!(planted > 20, "{planted}");
+        let c = compare(&r, &bytes, (48, 36), 8, &RenderOptions::default())
+            .unwrap_or_else(|e| panic!("{e}"));
+        let first = &c.groups[0];
+        assert_eq!(first.primitive, Some(block));
+        assert_eq!((first.differing, first.black_in_theirs), (planted, planted));
+        assert_eq!(c.groups.len(), 1, "{:?}", c.groups);
+        assert_eq!(first.line.map(u64::from), Some(block_line(block)));
+        let (x, y) = first.example;
+        assert_eq!(prim[(y * 48 + x) as usize], block as f32);
+        assert_eq!(first.theirs, [0, 0, 0]);
+    }
+}
+
+#[test]
+fn sizes_that_differ_are_an_error() {
+    let r = renderer();
+    let e = compare(
+        &r,
+        &vec![0; 40 * 30 * 3],
+        (40, 30),
+        8,
+        &RenderOptions::default(),
+    );
+    assert!(
+        matches!(
+            e,
+            Err(CompareError::Size {
+                theirs_w: 40,
+                theirs_h: 30,
+                ours_w: 48,
+                ours_h: 36
+            })
+        ),
+        "{e:?}"
+    );
+    let text = e.err().map(|e| e.to_string()).unwrap_or_default();
+    assert!(text.contains("40x30") && text.contains("48x36"), "{text}");
+}
+
+#[test]
+fn the_command_writes_the_heat_map_and_json() {
+    let dir = std::env::temp_dir().join(format!("glint-compare-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("s.txt");
+    std::fs::write(&scene, SCENE).unwrap();
+    let r = Renderer::new(Scene::from_file(&scene).unwrap());
+    let (mut bytes, prim) = ours(&r);
+    for (i, &p) in prim.iter().enumerate() {
+        if p == 2.0 {
+            bytes[3 * i..3 * i + 3].copy_from_slice(&[255, 255, 255]);
+        }
+    }
+    let theirs = dir.join("theirs.png");
+    let pixels = bytes
+        .chunks(3)
+        .map(|p| [0, 1, 2].map(|c| p[c] as f32 / 255.0 + 0.5 / 255.0))
+        .collect();
+    glint::Image::from_pixels(48, 36, pixels)
+        .save(&theirs)
+        .unwrap();
+    let heat = dir.join("heat.png");
+    let run = |args: &[&std::path::Path], extra: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_glint"))
+            .arg("compare")
+            .args(args)
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let o = run(
+        &[&scene, &theirs],
+        &["-o", heat.to_str().unwrap(), "--json"],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(json["groups"][0]["primitive"], 2);
+    assert_eq!(json["groups"][0]["type"], "cube");
+    assert_eq!(json["groups"][0]["line"], block_line(2));
+    let explain = json["groups"][0]["example"]["explain"]
+        .as_str()
+        .unwrap_or_default();
+    assert!(
+        explain.starts_with(&format!("glint explain {} --pixel ", scene.display())),
+        "{explain}"
+    );
+    assert!(heat.is_file());
+    // A picture of another size: exit 2 naming both sizes, no heat map.
+    let small = dir.join("small.png");
+    glint::Image::from_pixels(4, 3, vec![[0.0; 3]; 12])
+        .save(&small)
+        .unwrap();
+    let heat2 = dir.join("heat2.png");
+    let o = run(&[&scene, &small], &["-o", heat2.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("4x3") && err.contains("48x36"), "{err}");
+    assert!(!heat2.exists());
+    // Not a picture: exit 2 naming it.
+    let o = run(&[&scene, &scene], &[]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("s.txt"));
+}
