@@ -363,7 +363,7 @@ fn control_characters_from_a_scene_reach_the_terminal_escaped() {
 
 /// A scene with a warning (a misspelt key) and errors (words that are no
 /// numbers, the last after a Chinese comment-like word).
-const FLAWED: &str = "camera\n colour= 1 0 0\nend\nprimitive sphere\n R= 1 中文注释 x\nend\n";
+const FLAWED: &str = "camera\n colour= 1 0 0\nend\nprimitive sphere\n O= 1 中文注释 x\nend\n";
 
 /// Runs `glint render` on a scene with `NO_COLOR` set to `no_color` (or unset).
 fn render_with_no_color(scene: &str, out: &Path, no_color: Option<&str>) -> Output {
@@ -413,8 +413,8 @@ fn carets_line_up_under_chinese_text() {
     let lines: Vec<&str> = block.lines().collect();
     let at = lines.iter().position(|l| l.starts_with("5 | "));
     let Some(at) = at else { panic!("{block}") };
-    assert_eq!(lines[at], "5 |  R= 1 中文注释 x", "{block}");
-    // ` R= 1 ` is 6 columns and each of the 4 ideographs 2, then a blank.
+    assert_eq!(lines[at], "5 |  O= 1 中文注释 x", "{block}");
+    // ` O= 1 ` is 6 columns and each of the 4 ideographs 2, then a blank.
     let carets = lines[at + 1].strip_prefix("  | ").unwrap_or_default();
     assert_eq!(carets, format!("{}^", " ".repeat(6 + 4 * 2 + 1)), "{block}");
 }
@@ -703,7 +703,13 @@ fn reports_stay_small_for_a_line_of_many_bad_words() {
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.len() < 20_000, "{} bytes of messages", err.len());
-    assert!(err.contains("… and 19991 more on line 17"), "{err}");
+    // The three values `O=` takes are reported; the rest is ignored at once.
+    assert_eq!(
+        err.matches("expected a number after `O=`").count(),
+        3,
+        "{err}"
+    );
+    assert!(err.contains("found 20000: the rest is ignored"), "{err}");
 }
 
 #[test]

@@ -220,10 +220,28 @@ pub(crate) fn parse_entry(
             site,
         });
     }
-    // No kind takes more than 3 numbers; with more, the count is an error.
+    let n = values.len();
+    let counts: &[usize] = match kind {
+        Num | Count => &[1],
+        Vec2 => &[2],
+        Vec3 => &[3],
+        OneOrThree => &[1, 3],
+        Text => &[],
+    };
+    let max = counts.iter().copied().max().unwrap_or(1);
+    // The lineages' readers take the values they need and drop the rest.
+    if n > max {
+        let extra = &values[max];
+        diags.warn(
+            Site::span(line, extra, last),
+            format!("`{}=` takes {what}, found {n}: the rest is ignored", e.key),
+            None,
+        );
+    }
+    // No kind takes more than 3 numbers.
     let mut numbers = [0.0; 3];
     let mut ok = true;
-    for (k, w) in values.iter().enumerate() {
+    for (k, w) in values.iter().take(max).enumerate() {
         match parse_number(w.text) {
             Ok(x) => {
                 if let Some(slot) = numbers.get_mut(k) {
@@ -245,35 +263,24 @@ pub(crate) fn parse_entry(
             }
         }
     }
-    let n = values.len();
-    let counts: &[usize] = match kind {
-        Num | Count => &[1],
-        Vec2 => &[2],
-        Vec3 => &[3],
-        OneOrThree => &[1, 3],
-        Text => &[],
-    };
-    let max = counts.iter().copied().max().unwrap_or(1);
-    if n > max {
-        let extra = &values[max];
-        diags.error(
-            Site::span(line, extra, last),
-            format!("`{}=` expects {what}, found {n}", e.key),
-            None,
-        );
-        return None;
-    }
-    if !counts.contains(&n) {
-        diags.error(
-            site,
-            format!("`{}=` expects {what}, found {n}", e.key),
-            None,
-        );
-        return None;
-    }
     if !ok {
         return None;
     }
+    // Missing values: the lineages' readers leave them 0.
+    let n = n.min(max);
+    let n = if counts.contains(&n) {
+        n
+    } else {
+        diags.warn(
+            site,
+            format!(
+                "`{}=` takes {what}, found {n}: the missing ones read as 0",
+                e.key
+            ),
+            None,
+        );
+        counts.iter().copied().find(|&c| c > n).unwrap_or(max)
+    };
     let value = match kind {
         Num => Value::Num(numbers[0]),
         Count => {
@@ -286,16 +293,20 @@ pub(crate) fn parse_entry(
                 );
                 return None;
             }
-            if x.fract() != 0.0 {
-                diags.error(
+            // Read as written (rounded); the lineages' `>>` into an integer
+            // stops at the first character that is not a digit.
+            let x = x.round();
+            let theirs = integer_prefix(first.text);
+            if theirs != x {
+                diags.warn(
                     Site::word(line, first),
                     format!(
-                        "`{}=` expects a whole number, found `{}`",
+                        "`{}= {}` is read as {x}; the lineages' readers read {theirs} \
+                         (they stop at the first character that is not a digit)",
                         e.key, first.text
                     ),
-                    None,
+                    Some(format!("write `{}= {x}`", e.key)),
                 );
-                return None;
             }
             Value::Num(x)
         }
@@ -307,6 +318,17 @@ pub(crate) fn parse_entry(
     };
     Some(Field { name, value, site })
 }
+/// What C++'s `>>` into an integer reads of `text`: its leading sign and
+/// digits (0 when there are none).
+fn integer_prefix(text: &str) -> f64 {
+    let digits = text.strip_prefix(['+', '-']).unwrap_or(text);
+    let end = digits
+        .find(|c: char| !c.is_ascii_digit())
+        .unwrap_or(digits.len());
+    let x: f64 = digits[..end].parse().unwrap_or(0.0);
+    if text.starts_with('-') { -x } else { x }
+}
+
 /// The unit vector along `v`, or `None` when `v` has zero length (scaled
 /// first so tiny or huge components neither underflow nor overflow).
 pub(crate) fn unit(v: DVec3) -> Option<DVec3> {

@@ -747,7 +747,7 @@ fn line_endings_tabs_blank_lines_and_no_final_newline() {
         (v(1.0, 2.0, 3.0), 2.0)
     );
     // A lone CR also ends a line; an error's line number counts it.
-    let d = error_at("camera\r O= 1 2\rend", 2, 2);
+    let d = warning_at("camera\r O= 1 2\rend", 2, 2);
     assert!(d.message.contains("3 numbers"), "{d}");
     // A byte-order mark does not hide the first header.
     assert_eq!(ok("\u{feff}camera\n lens_W= 2\nend").camera().lens_w, 2.0);
@@ -783,19 +783,23 @@ fn missing_values_and_wrong_counts() {
         d.message.contains("expects 3 numbers, found nothing"),
         "{d}"
     );
-    let d = error_at("camera\n    O= 1 2\nend", 2, 5);
-    assert!(d.message.contains("expects 3 numbers, found 2"), "{d}");
+    // As the lineages' readers do: missing values are 0, extra ones dropped.
+    let text = "camera\n    O= 1 2\nend";
+    let d = warning_at(text, 2, 5);
+    assert!(d.message.contains("takes 3 numbers, found 2"), "{d}");
     assert_eq!(d.len, "O= 1 2".len());
-    let d = error_at("camera\n    O= 1 2 3 4 5\nend", 2, 14);
-    assert!(d.message.contains("found 5"), "{d}");
+    assert_eq!(ok(text).camera().origin, v(1.0, 2.0, 0.0));
+    let text = "camera\n    O= 1 2 3 4 x\nend";
+    let d = warning_at(text, 2, 14);
+    assert!(d.message.contains("found 5: the rest is ignored"), "{d}");
     assert_eq!(d.len, 3);
-    error_at(
-        "primitive bezier\n O1= 0 0 0\n O2= 0 0 1\n P= 1\n P= 2 2\n P= 3 3\nend",
-        4,
-        2,
-    );
+    assert_eq!(ok(text).camera().origin, v(1.0, 2.0, 3.0));
+    let text = "primitive bezier\n O1= 0 0 0\n O2= 0 0 1\n P= 1\n P= 2 2\n P= 3 3\nend";
+    warning_at(text, 4, 2);
     error_at("primitive mesh\n file=\nend", 2, 2);
-    error_at("light point\n color= 1 1 1\n intensity= 1 2\nend", 3, 2);
+    let text = "light point\n color= 1 1 1\n intensity= 1 2\nend";
+    warning_at(text, 3, 2);
+    assert_eq!(ok(text).lights()[0].color, v(1.0, 2.0, 0.0));
 }
 
 #[test]
@@ -989,8 +993,28 @@ fn image_sizes_and_qualities() {
     error_at("camera\n image_W= 0\nend", 2, 2);
     error_at("camera\n image_H= 32769\nend", 2, 2);
     ok("camera\n image_W= 32768\n image_H= 1\nend");
-    let d = error_at("camera\n image_W= 640.5\nend", 2, 11);
-    assert!(d.message.contains("whole number"), "{d}");
+    // Integer keys are read as written (rounded), with a warning where the
+    // lineages' readers (an integer `>>`) read another value.
+    let text = "camera\n image_W= 640.5\n max_photons= 1e7\n image_H= 300\nend";
+    let s = ok(text);
+    assert_eq!((s.camera().width, s.camera().height), (641, 300));
+    assert_eq!(s.camera().photons.max_photons, 10_000_000);
+    let w: Vec<_> = s
+        .warnings()
+        .iter()
+        .map(|d| (d.line, d.message.as_str()))
+        .collect();
+    assert_eq!(w.len(), 2, "{w:?}");
+    assert!(
+        w[0].1
+            .contains("read as 641; the lineages' readers read 640"),
+        "{w:?}"
+    );
+    assert!(
+        w[1].1
+            .contains("read as 10000000; the lineages' readers read 1 "),
+        "{w:?}"
+    );
     let d = error_at("camera\n shade_quality= -1\nend", 2, 17);
     assert!(d.message.contains("negative"), "{d}");
     error_at("camera\n drefl_quality= -2\nend", 2, 17);
@@ -1025,7 +1049,7 @@ fn all_errors_are_reported_together_in_file_order() {
     R= 1
 end
 camera
-    O= 1 2
+    O= 1 x
     colour= 1 1 1
     image_W= 0
 end
@@ -1039,7 +1063,7 @@ primitive sphere
         got,
         vec![
             (Warning, 1, 1),
-            (Error, 5, 5),
+            (Error, 5, 10),
             (Warning, 6, 5),
             (Error, 7, 5),
             (Warning, 9, 1),
@@ -1152,9 +1176,9 @@ fn diagnostics_render_like_rustc_without_colours() {
     );
     assert!(!e.to_string().contains('\u{1b}'));
     // Tabs are expanded so the caret stays under the span.
-    let e = parse("camera\n\tO= 1 2\nend").unwrap_err();
+    let e = parse("camera\n\tO= 1 x\nend").unwrap_err();
     let shown = e.diagnostics[0].to_string();
-    assert!(shown.contains("2 |     O= 1 2\n  |     ^^^^^^"), "{shown}");
+    assert!(shown.contains("2 |     O= 1 x\n  |          ^"), "{shown}");
 }
 
 #[test]
