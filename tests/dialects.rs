@@ -256,3 +256,23 @@ fn the_lineages_refraction_flag_differs_from_the_face_on_planes() {
         "{v} vs {want}"
     );
 }
+
+#[test]
+fn a_v_file_with_a_point_light_is_noted_as_likely_pm3s() {
+    let text = format!(
+        "camera\n algorithm= PM\nend\nlight point\n O= 0 0 5\n color= 1 1 1\nend\n{SPHERE}"
+    );
+    let s = parse(&text, None).unwrap();
+    assert_eq!(s.dialect().dialect, Dialect::V);
+    assert!(
+        s.notes().iter().any(|n| n.contains("may be PM3's")),
+        "{:?}",
+        s.notes()
+    );
+    let s = parse(
+        &text.replace("light point", "light area\n Dx= 1 0 0\n Dy= 0 1 0"),
+        None,
+    )
+    .unwrap();
+    assert!(!s.notes().iter().any(|n| n.contains("may be PM3's")));
+}

@@ -66,6 +66,16 @@ impl<'p> Builder<'p> {
         let mut scene = self.scene;
         self.evidence.adapt(choice.dialect, &mut scene);
         choice.caveat = caveat(choice.dialect, scene.camera().algorithm.as_deref());
+        let point = |l: &Light| matches!(l.kind, crate::scene::LightKind::Point { .. });
+        if choice.dialect == Dialect::V && scene.lights().iter().any(point) {
+            // V's reader has no point light: such a file is likelier PM3's,
+            // whose direct light is V's formula too.
+            scene.add_note(
+                "V's reader reads no `light point`: this file may be PM3's \
+                 (its point lights are drawn with PM3's formula, which is V's)"
+                    .to_string(),
+            );
+        }
         for note in self.notes {
             scene.add_note(note);
         }
