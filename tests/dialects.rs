@@ -276,3 +276,22 @@ fn a_v_file_with_a_point_light_is_noted_as_likely_pm3s() {
     .unwrap();
     assert!(!s.notes().iter().any(|n| n.contains("may be PM3's")));
 }
+
+#[test]
+fn refraction_without_an_index_passes_in_the_framework_and_mirrors_in_the_lineages() {
+    // A glass plane y = 2 without `rindex=` before a red wall y = 4 (lit
+    // from y = 3), with a green wall y = −1 behind the camera (W's ambient
+    // light shows it). The framework's dialect refracts with index 1
+    // (straight on: red); W's index 0 takes the total-internal-reflection
+    // path on entering (a mirror: green).
+    let text = "background\n color= 1 1 1\nend\n\
+                camera\n O= 0 0 0\n N= 0 1 0\n image_W= 21\n image_H= 21\nend\n\
+                light point\n O= 0 3 0\n color= 1 1 1\nend\n\
+                primitive plane\n N= 0 -1 0\n R= -2\n refr= 1\nend\n\
+                primitive plane\n N= 0 -1 0\n R= -4\n color= 1 0 0\n diff= 1\nend\n\
+                primitive plane\n N= 0 1 0\n R= -1\n color= 0 1 0\n diff= 1\nend\n";
+    let f = pixel(text, Dialect::F, (10, 10));
+    assert!(f.x > 0.0 && f.y == 0.0, "{f}");
+    let w = pixel(text, Dialect::W, (10, 10));
+    assert!(w.x == 0.0 && w.y > 0.0, "{w}");
+}

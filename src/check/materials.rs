@@ -1,6 +1,7 @@
 //! Materials: `rindex=` below 1 with `refr=`, all-zero materials, and
 //! `diff + refl + refr` above 1. (`rindex=` 0 or below with `refr=` is the
-//! reader's warning: it renders with rindex 1.)
+//! reader's warning: it renders with rindex 1 in the framework's dialect,
+//! as a mirror in the relatives'.)
 
 use super::blocks::{Block, name};
 use super::finding::{Code, Findings};

@@ -5,8 +5,9 @@
 //! - background: a gradient end that is not given (`top=` alone, or
 //!   `bottom=` alone) is white;
 //! - a light without `color=` is black (and a warning says so);
-//! - `refr=` > 0 with `rindex=` ≤ 0 uses rindex 1 (the framework divides by
-//!   it and produces NaN).
+//! - `refr=` > 0 with `rindex=` ≤ 0 refracts with index 1 in the framework's
+//!   dialect (the framework divides by it and produces NaN); the index is
+//!   kept as written for the lineages' total internal reflection.
 
 use super::assets::Assets;
 use super::block::Block;
@@ -247,12 +248,15 @@ pub(crate) fn material(
             closest(blur, &["exp"]).map(|c| format!("did you mean `{c}`?")),
         );
     }
+    // Kept as written: the framework's model refracts with index 1, the
+    // lineages' take the total-internal-reflection path (integrator/model.rs).
     if m.refr > 0.0 && m.rindex <= 0.0 {
         let site = f
             .num("rindex")
             .or_else(|| f.num("refr"))
             .map_or(b.header, |(_, s)| s);
-        b.diags.warn(
+        b.diags.warn_when(
+            When::In(Dialect::F),
             site,
             format!(
                 "`refr=` is {} but `rindex=` is {}; using rindex 1 (the framework would produce NaN)",
@@ -260,7 +264,16 @@ pub(crate) fn material(
             ),
             None,
         );
-        m.rindex = 1.0;
+        b.diags.warn_when(
+            When::NotIn(Dialect::F),
+            site,
+            format!(
+                "`refr=` is {} but `rindex=` is {}: as in the lineages' renderers, light \
+                 entering it is reflected (total internal reflection), so it acts as a mirror",
+                m.refr, m.rindex
+            ),
+            Some("give it an index, e.g. `rindex= 1.5` for glass".to_string()),
+        );
     }
     if let Some((name, site)) = b.fields.text("texture") {
         let name = name.to_string();

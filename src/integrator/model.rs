@@ -92,6 +92,10 @@ pub(crate) struct Model {
     pub max_depth: u32,
     /// The refraction side rule.
     pub inside: Inside,
+    /// Whether `rindex=` ≤ 0 refracts with index 1 (the framework's fix of
+    /// its NaN); else the index is used as written (the lineages: light
+    /// entering takes the total-internal-reflection path, §7.8).
+    pub unit_index_fallback: bool,
     /// Whether a texture replaces the colour (else multiplies it).
     pub texture_replaces: bool,
     /// What an emitter's surface shows.
@@ -118,6 +122,7 @@ impl Model {
             clamp_every_ray: true,
             max_depth: 10,
             inside: Inside::FrontFace,
+            unit_index_fallback: true,
             texture_replaces: false,
             emitter: Emitter::Clamped,
             secondary: true,
@@ -125,6 +130,7 @@ impl Model {
             lens: Lens::Framework,
         };
         let lineage = Model {
+            unit_index_fallback: false,
             direct: Direct::Falloff { specular: true },
             ambient: true,
             lit_by_specular: false,
@@ -150,6 +156,7 @@ impl Model {
                 ..lineage
             },
             Dialect::W => Model {
+                unit_index_fallback: false,
                 ambient: true,
                 min_dot: 1e-6,
                 glossy: Glossy::Mirror,

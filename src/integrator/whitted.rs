@@ -333,7 +333,12 @@ impl<'a> Whitted<'a> {
                 Inside::FrontFace => !front,
                 Inside::Parity => inside,
             };
-            let eta = if within { m.rindex } else { 1.0 / m.rindex };
+            let rindex = if m.rindex <= 0.0 && model.unit_index_fallback {
+                1.0
+            } else {
+                m.rindex
+            };
+            let eta = if within { rindex } else { 1.0 / rindex };
             let (dir, origin, kind, next) = match refract(ray.dir, n, eta) {
                 Some(t) => (t, offset_origin(point, -side), RayKind::Refraction, !inside),
                 None => (

@@ -1122,14 +1122,25 @@ fn keys_a_block_does_not_use_warn() {
 }
 
 #[test]
-fn refraction_without_index_uses_one() {
+fn refraction_without_index_is_warned() {
+    // Kept as written; the framework's dialect refracts with index 1 (see
+    // tests/dialects.rs for the pictures), the lineages' reflect.
     let text = "primitive sphere\n R= 1\n refr= 1\nend";
     let d = warning_at(text, 3, 2);
-    assert!(d.message.contains("rindex"), "{d}");
-    assert_eq!(ok(text).material(0).rindex, 1.0);
+    assert!(d.message.contains("using rindex 1"), "{d}");
+    assert_eq!(ok(text).material(0).rindex, 0.0);
     let text = "primitive sphere\n R= 1\n rindex= -2\n refr= 0.5\nend";
     warning_at(text, 3, 2);
-    assert_eq!(ok(text).material(0).rindex, 1.0);
+    assert_eq!(ok(text).material(0).rindex, -2.0);
+    let lineage = Scene::parse_as(text, DATA, Some(crate::scene::Dialect::Pm3)).unwrap();
+    assert!(
+        lineage
+            .warnings()
+            .iter()
+            .any(|w| w.message.contains("acts as a mirror")),
+        "{:?}",
+        lineage.warnings()
+    );
     // Without refraction the index does not matter.
     assert!(
         ok("primitive sphere\n R= 1\n rindex= 0\nend")
