@@ -63,10 +63,8 @@ struct CompareArgs {
     /// One JSON object on stdout (schema: docs/debugging.md).
     #[arg(long)]
     json: bool,
-    /// The lineage whose renderer's model draws the file: f, z14, pm3, v or w
-    /// (or a repository's name) [default: chosen by the file's markers]
-    #[arg(long, value_parser = dialect)]
-    dialect: Option<Dialect>,
+    #[command(flatten)]
+    dialect: DialectArg,
 }
 
 #[derive(Args)]
@@ -79,10 +77,8 @@ struct CheckArgs {
     /// One JSON object on stdout (schema: docs/debugging.md).
     #[arg(long)]
     json: bool,
-    /// The lineage whose renderer's model draws the file: f, z14, pm3, v or w
-    /// (or a repository's name) [default: chosen by the file's markers]
-    #[arg(long, value_parser = dialect)]
-    dialect: Option<Dialect>,
+    #[command(flatten)]
+    dialect: DialectArg,
 }
 
 #[derive(Args)]
@@ -110,10 +106,8 @@ struct ExplainArgs {
     /// One JSON object (schema: docs/debugging.md).
     #[arg(long)]
     json: bool,
-    /// The lineage whose renderer's model draws the file: f, z14, pm3, v or w
-    /// (or a repository's name) [default: chosen by the file's markers]
-    #[arg(long, value_parser = dialect)]
-    dialect: Option<Dialect>,
+    #[command(flatten)]
+    dialect: DialectArg,
 }
 
 /// Parses `--pixel X,Y`.
@@ -167,10 +161,8 @@ struct RenderArgs {
     /// the top): `X0,Y0,X1,Y1`; its pixels are those of the whole render.
     #[arg(long, value_parser = region)]
     region: Option<Region>,
-    /// The lineage whose renderer's model draws the file: f, z14, pm3, v or w
-    /// (or a repository's name) [default: chosen by the file's markers]
-    #[arg(long, value_parser = dialect)]
-    dialect: Option<Dialect>,
+    #[command(flatten)]
+    dialect: DialectArg,
 }
 
 /// Parses `--region X0,Y0,X1,Y1` (ends excluded).
@@ -209,6 +201,13 @@ struct ProbeArgs {
     /// One JSON object per line: {"hit":true,"t":..,"point":[..],"normal":[..],"front":..,"primitive":K,"uv":[u,v]}.
     #[arg(long)]
     json: bool,
+    #[command(flatten)]
+    dialect: DialectArg,
+}
+
+/// `--dialect`, shared by every command that reads a scene.
+#[derive(Args)]
+struct DialectArg {
     /// The lineage whose renderer's model draws the file: f, z14, pm3, v or w
     /// (or a repository's name) [default: chosen by the file's markers]
     #[arg(long, value_parser = dialect)]
@@ -359,7 +358,7 @@ fn run_compare(args: CompareArgs, interrupt: &AtomicBool) -> Result<(), Failure>
         refuse_scene_as_output(&args.theirs, out)?;
         Format::from_path(out).map_err(|e| fail(format!("error: -o: {e}")))?;
     }
-    let scene = load_scene(&args.scene, args.dialect, true)?;
+    let scene = load_scene(&args.scene, args.dialect.dialect, true)?;
     let (theirs, size) =
         glint::read_picture(&args.theirs).map_err(|e| fail(format!("error: {e}")))?;
     let renderer = Renderer::new(scene);
@@ -399,7 +398,7 @@ fn run_check(args: CheckArgs) -> Result<(), Failure> {
         let _ = std::io::stdout().write_all(text.as_bytes());
     };
     // The reader's diagnostics go to stderr as `render` prints them.
-    let scene = match Scene::from_file_as(&args.scene, args.dialect) {
+    let scene = match Scene::from_file_as(&args.scene, args.dialect.dialect) {
         Ok(scene) => scene,
         Err(e) => {
             say_raw(&e.render(colour));
@@ -476,7 +475,7 @@ fn run_render(args: RenderArgs, interrupt: &AtomicBool) -> Result<(), Failure> {
     });
     // Fail on the output path before spending the render time.
     refuse_scene_as_output(&args.scene, &output)?;
-    let scene = load_scene(&args.scene, args.dialect, !args.quiet)?;
+    let scene = load_scene(&args.scene, args.dialect.dialect, !args.quiet)?;
     Format::from_path(&output).map_err(|e| fail(format!("error: {e}")))?;
     if args.verbose {
         for note in scene.notes() {
@@ -618,7 +617,7 @@ fn check_memory(w: u32, h: u32) -> Result<(), Failure> {
 }
 
 fn run_explain(args: ExplainArgs) -> Result<(), Failure> {
-    let scene = load_scene(&args.scene, args.dialect, true)?;
+    let scene = load_scene(&args.scene, args.dialect.dialect, true)?;
     let options = RenderOptions {
         threads: Some(1),
         seed: args.seed,
@@ -685,7 +684,7 @@ fn memory_available() -> Option<u64> {
 }
 
 fn run_probe(args: ProbeArgs) -> Result<(), Failure> {
-    let scene = load_scene(&args.scene, args.dialect, false)?;
+    let scene = load_scene(&args.scene, args.dialect.dialect, false)?;
     let name = args.rays.display().to_string();
     let cannot_read =
         |e: &dyn std::fmt::Display| fail(format!("error: cannot read the rays from {name}: {e}"));
