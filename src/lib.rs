@@ -54,6 +54,7 @@ pub mod fuzzing {
 pub use check::{CheckReport, Code, ESTIMATE_RAYS_PER_SECOND, Finding, check};
 pub use compare::{CompareError, Comparison, DEFAULT_THRESHOLD, Group, compare, read_picture};
 pub use geometry::Shape;
+pub use integrator::photons::{PhotonFilter, PhotonMode, PhotonOptions};
 pub use integrator::{Blocker, HitInfo, LightTerm, RayCounts, RayKind, RayNode};
 pub use output::{Format, Image, SaveError};
 pub use pass_files::{
@@ -63,8 +64,9 @@ pub use probe::{
     MAX_RAY_ERRORS, ProbeHit, RayError, RaysError, parse_ray, read_rays, to_json, to_text,
 };
 pub use render::{
-    Aov, Control, Explanation, Film, MAX_EXPLAINED_SPP, MAX_THREADS, Plane, Region, RenderError,
-    RenderOptions, RenderStats, Renderer, Sampling, Stage, WorkEstimate, memory_needed,
+    Aov, Checkpoint, Control, Explanation, Film, MAX_EXPLAINED_SPP, MAX_THREADS, PhotonStats,
+    Plane, Region, RenderError, RenderOptions, RenderStats, Renderer, Sampling, Stage,
+    WorkEstimate, memory_needed,
 };
 pub use scene::{Dialect, DialectChoice, Scene, SceneError};
 

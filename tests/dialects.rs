@@ -3,7 +3,7 @@
 //! hand from §3.2.
 
 use glam::DVec3;
-use glint::{Dialect, RenderOptions, Renderer, Scene, SceneError};
+use glint::{Dialect, PhotonMode, PhotonOptions, RenderOptions, Renderer, Scene, SceneError};
 
 /// The scene of `text` read in dialect `forced` (or by its markers).
 fn parse(text: &str, forced: Option<Dialect>) -> Result<Scene, SceneError> {
@@ -138,11 +138,16 @@ fn dialect_flag_wins_and_says_what_the_file_reads_as() {
     assert_eq!(Dialect::from_name("q"), None);
 }
 
-/// The colour of pixel (x, y) of `text` rendered with one ray per pixel in `dialect`.
+/// The colour of pixel (x, y) of `text` rendered with one ray per pixel in
+/// `dialect`, photons off: the ray-traced formulas of lineages.md §3.2.
 fn pixel(text: &str, dialect: Dialect, (x, y): (u32, u32)) -> DVec3 {
     let scene = parse(text, Some(dialect)).unwrap();
     let options = RenderOptions {
         spp: Some(1),
+        photons: PhotonOptions {
+            mode: Some(PhotonMode::Off),
+            ..PhotonOptions::default()
+        },
         ..RenderOptions::default()
     };
     let image = Renderer::new(scene).render(&options).unwrap().into_image();

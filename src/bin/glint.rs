@@ -2,8 +2,9 @@
 
 use clap::{Args, Parser, Subcommand};
 use glint::{
-    Aov, Control, Dialect, Format, MAX_THREADS, RaysError, Region, RenderError, RenderOptions,
-    Renderer, Scene, memory_needed, read_rays, to_json, to_text,
+    Aov, Control, Dialect, Film, Format, MAX_THREADS, PhotonFilter, PhotonMode, PhotonOptions,
+    RaysError, Region, RenderError, RenderOptions, Renderer, Scene, memory_needed, read_rays,
+    to_json, to_text,
 };
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::{IsTerminal, Write};
@@ -108,6 +109,8 @@ struct ExplainArgs {
     json: bool,
     #[command(flatten)]
     dialect: DialectArg,
+    #[command(flatten)]
+    photons: PhotonArgs,
 }
 
 /// Parses `--pixel X,Y`.
@@ -161,8 +164,14 @@ struct RenderArgs {
     /// the top): `X0,Y0,X1,Y1`; its pixels are those of the whole render.
     #[arg(long, value_parser = region)]
     region: Option<Region>,
+    /// PPM and SPPM: write the picture every N iterations (atomically; Ctrl-C
+    /// writes the last complete iteration).
+    #[arg(long, default_value_t = 10, value_parser = at_least_one::<u64>)]
+    checkpoint: u64,
     #[command(flatten)]
     dialect: DialectArg,
+    #[command(flatten)]
+    photons: PhotonArgs,
 }
 
 /// Parses `--region X0,Y0,X1,Y1` (ends excluded).
@@ -203,6 +212,49 @@ struct ProbeArgs {
     json: bool,
     #[command(flatten)]
     dialect: DialectArg,
+}
+
+/// The photon options of `render` and `explain`.
+#[derive(Args)]
+struct PhotonArgs {
+    /// Photon mapping: pm, ppm, sppm or off [default: as the file's dialect and `algorithm=` say]
+    #[arg(long, value_parser = photon_mode)]
+    photons: Option<PhotonMode>,
+    /// PPM and SPPM iterations, overriding the camera's `iterations=` (at least 1).
+    #[arg(long, value_parser = at_least_one::<u64>)]
+    iterations: Option<u64>,
+    /// Photons emitted per pass, overriding the camera's `emit_photons=` (at least 1).
+    #[arg(long, value_parser = at_least_one::<u64>)]
+    emit: Option<u64>,
+    /// How gathered photons are weighted by distance: box or cone (Jensen's).
+    #[arg(long, value_parser = photon_filter, default_value = "box")]
+    photon_filter: PhotonFilter,
+}
+
+impl PhotonArgs {
+    fn options(&self) -> PhotonOptions {
+        PhotonOptions {
+            mode: self.photons,
+            iterations: self.iterations,
+            emit: self.emit,
+            filter: self.photon_filter,
+        }
+    }
+}
+
+/// Parses `--photons MODE`.
+fn photon_mode(s: &str) -> Result<PhotonMode, String> {
+    PhotonMode::from_name(s)
+        .ok_or_else(|| format!("unknown photon mode `{s}`: expected pm, ppm, sppm or off"))
+}
+
+/// Parses `--photon-filter NAME`.
+fn photon_filter(s: &str) -> Result<PhotonFilter, String> {
+    match s {
+        "box" => Ok(PhotonFilter::Box),
+        "cone" => Ok(PhotonFilter::Cone),
+        _ => Err(format!("unknown photon filter `{s}`: expected box or cone")),
+    }
 }
 
 /// `--dialect`, shared by every command that reads a scene.
@@ -493,9 +545,15 @@ fn run_render(args: RenderArgs, interrupt: &AtomicBool) -> Result<(), Failure> {
             Some(list) => Aov::parse_list(list).map_err(|e| fail(format!("error: --aov: {e}")))?,
             None => Vec::new(),
         },
+        photons: args.photons.options(),
     };
     check_interrupt(interrupt)?;
     let renderer = Renderer::new(scene);
+    if !args.quiet {
+        for note in renderer.photon_notes(&options) {
+            say(&format!("{}: {note}", args.scene.display()));
+        }
+    }
     let (w, h) = renderer.frame_size(&options).map_err(render_failure)?;
     check_memory(w, h)?;
     warn_if_slow(&renderer, &options, &args.scene)?;
@@ -516,13 +574,40 @@ fn run_render(args: RenderArgs, interrupt: &AtomicBool) -> Result<(), Failure> {
         bar.set_length(total);
         bar.set_position(done);
     };
+    // PPM and SPPM checkpoints: the picture so far, written atomically
+    // (passes and EXR layers are written at the end only).
+    let never = AtomicBool::new(false);
+    let checkpoint = |_: u64, film: &Film| {
+        if let Err(e) = film.image().save_unless(&output, &never) {
+            bar.suspend(|| say(&format!("warning: cannot write the checkpoint: {e}")));
+        }
+    };
     let control = Control {
         progress: Some(&progress),
         cancel: Some(interrupt),
+        checkpoint: Some(&checkpoint),
+        checkpoint_every: args.checkpoint,
     };
     let rendered = renderer.render_with(&options, control);
     bar.finish_and_clear();
     let (film, stats) = rendered.map_err(render_failure)?;
+    if interrupt.load(Ordering::Relaxed) && stats.photons.iterations > 0 {
+        // Stopped between iterations: the last complete one is the picture.
+        film.image()
+            .save_unless(&output, &never)
+            .map_err(|e| fail(format!("error: cannot write the image: {e}")))?;
+        say(&format!(
+            "{}: interrupted: wrote iteration {} of {}",
+            output.display(),
+            stats.photons.iterations,
+            options
+                .photons
+                .iterations
+                .unwrap_or(0)
+                .max(stats.photons.iterations)
+        ));
+        return Err(Failure::Interrupted);
+    }
     let cannot = |e: glint::SaveError| fail(format!("error: cannot write the image: {e}"));
     let exr = Format::from_path(&output).is_ok_and(|f| f == Format::Exr);
     if exr && !options.aovs.is_empty() {
@@ -626,6 +711,7 @@ fn run_explain(args: ExplainArgs) -> Result<(), Failure> {
         height: args.height,
         region: None,
         aovs: Vec::new(),
+        photons: args.photons.options(),
     };
     let renderer = Renderer::new(scene);
     let (x, y) = args.pixel;

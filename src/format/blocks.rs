@@ -147,8 +147,27 @@ pub(crate) fn camera(mut cam: Camera, b: &mut Block<'_>) -> Camera {
     if let Some(x) = b.non_negative("sample_dist") {
         photons.sample_dist = x;
     }
-    if let Some(x) = b.non_negative("reduction") {
-        photons.reduction = Some(x);
+    if let Some((x, site)) = b.fields.num("reduction") {
+        if x > 0.0 && x <= 1.0 {
+            photons.reduction = Some(x);
+        } else {
+            let message = format!("`reduction=` must be in (0, 1], found {x}");
+            let help = "the radius update keeps this share of each pass's photons: 0.7 is usual";
+            b.diags.error(site, message, Some(help.to_string()));
+        }
+    }
+    for key in [
+        "emit_photons",
+        "max_photons",
+        "sample_photons",
+        "sample_dist",
+        "max_hitpoints",
+        "iterations",
+        "reduction",
+    ] {
+        if b.fields.get(key).is_some() {
+            photons.keys.push(key);
+        }
     }
     if let Some(x) = b.non_negative("aperture") {
         cam.dof.aperture = x;

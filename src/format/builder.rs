@@ -240,24 +240,15 @@ impl<'p> Builder<'p> {
     }
 }
 
-/// What glint does not draw yet of dialect `d`'s picture (V's `algorithm`).
+/// What a reader of dialect `d`'s file should know about its picture
+/// (PM3 ignores its `algorithm=`).
 fn caveat(d: Dialect, algorithm: Option<&str>) -> Option<String> {
-    let text = match (d, algorithm.unwrap_or("SPPM")) {
-        (Dialect::F | Dialect::W, _) | (Dialect::V, "RC" | "RT") => return None,
-        (Dialect::Z14, _) => {
-            "its diffuse light is photon-mapped: the direct part is rendered, \
-             indirect light and caustics not rendered yet"
-        }
-        (Dialect::Pm3, _) => {
-            "photon-mapped light (indirect light, caustics) not rendered yet; PM3 \
-             renders PM whatever `algorithm=` says"
-        }
-        (Dialect::V, "PM") => "photon-mapped light (indirect light, caustics) not rendered yet",
-        (Dialect::V, _) => {
-            "progressive photon mapping not rendered yet: its ray-traced part (RT) is rendered"
-        }
-    };
-    Some(text.to_string())
+    match (d, algorithm) {
+        (Dialect::Pm3, Some(a)) if a != "PM" => Some(format!(
+            "PM3 renders PM whatever `algorithm=` says (here {a})"
+        )),
+        _ => None,
+    }
 }
 
 /// The 1-based line of a block's header.

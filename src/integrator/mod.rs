@@ -5,7 +5,9 @@
 
 mod model;
 mod observer;
+mod optics;
 mod path;
+pub(crate) mod photons;
 mod tree;
 mod visibility;
 mod whitted;
@@ -24,6 +26,7 @@ pub(crate) use visibility::{ShadowFrom, shade_factor};
 use crate::geometry::Ray;
 use crate::scene::{Camera, Scene};
 use glam::DVec3;
+pub(crate) use whitted::PhotonShading;
 use whitted::Whitted;
 
 /// An integrator bound to a scene and its acceleration structure.
@@ -34,9 +37,14 @@ pub(crate) enum Integrator<'a> {
 
 impl<'a> Integrator<'a> {
     /// The framework's ray tracer over `scene`, rendered through `camera`
-    /// (its quality keys), querying `accel`.
-    pub fn whitted(scene: &'a Scene, camera: &Camera, accel: &'a SceneAccel) -> Self {
-        Integrator::Whitted(Whitted::new(scene, camera, accel))
+    /// (its quality keys), querying `accel`, with `photons`.
+    pub fn whitted(
+        scene: &'a Scene,
+        camera: &Camera,
+        accel: &'a SceneAccel,
+        photons: PhotonShading<'a>,
+    ) -> Self {
+        Integrator::Whitted(Whitted::new(scene, camera, accel, photons))
     }
 
     /// The lineage's model it shades with.

@@ -2,7 +2,8 @@
 //! render from the scene's dialect: the tracer reads these fields, no
 //! dialect is looked at per ray.
 
-use crate::scene::{Camera, Dialect};
+use crate::scene::{Camera, Dialect, Material, Texture};
+use glam::{DVec2, DVec3};
 
 /// How the light of one light source reaches a diffuse hit.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -109,6 +110,16 @@ pub(crate) struct Model {
 }
 
 impl Model {
+    /// k: the colour of material `m` at texture coordinates `uv`, its
+    /// texture (one of `textures`) multiplying or replacing its colour.
+    pub fn albedo(&self, m: &Material, textures: &[Texture], uv: DVec2) -> DVec3 {
+        match m.texture.and_then(|t| textures.get(t as usize)) {
+            Some(texture) if self.texture_replaces => texture.sample(uv),
+            Some(texture) => m.color * texture.sample(uv),
+            None => m.color,
+        }
+    }
+
     /// The model of dialect `d`, with `camera`'s quality keys (and V's `algorithm=`).
     pub fn of(d: Dialect, camera: &Camera) -> Model {
         let dq = camera.drefl_quality.max(1);

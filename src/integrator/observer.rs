@@ -3,6 +3,7 @@
 //! Shading is generic over it, so an observer that watches nothing costs
 //! nothing.
 
+use super::photons::Gathered;
 use crate::geometry::{Hit, Ray, Shape};
 use crate::scene::{Material, Origin};
 use glam::DVec3;
@@ -97,6 +98,9 @@ pub(crate) trait PathObserver {
     #[inline(always)]
     fn cut(&mut self, _kind: RayKind) {}
 
+    /// The photon estimate at the last surface (PM): what it gathered.
+    fn photons(&mut self, _gathered: &Gathered) {}
+
     /// The last ray's sum before the clamp to 1 per channel.
     #[inline(always)]
     fn shaded(&mut self, _sum: DVec3) {}
@@ -151,6 +155,11 @@ impl<T: PathObserver> PathObserver for &mut T {
     #[inline(always)]
     fn cut(&mut self, kind: RayKind) {
         (**self).cut(kind)
+    }
+
+    #[inline(always)]
+    fn photons(&mut self, gathered: &Gathered) {
+        (**self).photons(gathered)
     }
 
     #[inline(always)]

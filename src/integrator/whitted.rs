@@ -6,14 +6,14 @@
 
 use super::model::{Direct, Emitter, Glossy, Inside, Model};
 use super::observer::{LightSeen, PathObserver, RayKind, SurfaceSeen};
+use super::optics::{disk_direction, glossy_direction, reflect, refract};
 use super::path::{PathState, SceneAccel};
+use super::photons::{Brdf, PhotonMap};
 use super::visibility::{ShadowFrom, ShadowHints, shade_factor, weighted_light};
 use crate::accel::PACKET_MAX;
 use crate::geometry::{Hit, Ray, offset_origin, perpendiculars};
 use crate::scene::{Camera, LightKind, Scene};
 use glam::DVec3;
-use rand::Rng;
-use rand_pcg::Pcg32;
 
 /// Glossy reflections are averaged over many rays up to this depth, one ray
 /// deeper; each glossy ray also counts this many levels (the framework's
@@ -21,23 +21,43 @@ use rand_pcg::Pcg32;
 /// one ray (a plain mirror in the lineages).
 const GLOSSY_AVERAGE_DEPTH: u32 = 2;
 
+/// What the ray tracer does about photons.
+#[derive(Clone, Copy, Default)]
+pub(crate) struct PhotonShading<'a> {
+    /// The map gathered at diffuse hits (PM).
+    pub map: Option<&'a PhotonMap>,
+    /// Whether the lights' direct term is left out (Z14's model with
+    /// photons: they carry all diffuse light).
+    pub no_direct: bool,
+    /// Whether gathered photons carry the lineage's specular lobe.
+    pub specular: bool,
+}
+
 /// The ray tracer over one scene, in its dialect's model.
 pub(crate) struct Whitted<'a> {
     scene: &'a Scene,
     accel: &'a SceneAccel,
     shadow_samples: u32,
     model: Model,
+    photons: PhotonShading<'a>,
 }
 
 impl<'a> Whitted<'a> {
     /// The tracer over `scene` (its dialect, its camera's quality keys)
-    /// using `accel` (built over the scene's objects) for ray queries.
-    pub fn new(scene: &'a Scene, camera: &Camera, accel: &'a SceneAccel) -> Self {
+    /// using `accel` (built over the scene's objects) for ray queries, with
+    /// `photons`.
+    pub fn new(
+        scene: &'a Scene,
+        camera: &Camera,
+        accel: &'a SceneAccel,
+        photons: PhotonShading<'a>,
+    ) -> Self {
         Whitted {
             scene,
             accel,
             shadow_samples: 16 * camera.shade_quality.max(1),
             model: Model::of(scene.dialect().dialect, camera),
+            photons,
         }
     }
 
@@ -168,11 +188,7 @@ impl<'a> Whitted<'a> {
         let mut color = DVec3::ZERO;
 
         if m.diff > 0.0 || (m.spec > 0.0 && model.lit_by_specular) {
-            let k = match m.texture.and_then(|t| scene.textures().get(t as usize)) {
-                Some(texture) if model.texture_replaces => texture.sample(surface.uv),
-                Some(texture) => m.color * texture.sample(surface.uv),
-                None => m.color,
-            };
+            let k = model.albedo(&m, scene.textures(), surface.uv);
             if model.ambient {
                 color += k * m.diff * scene.background().ambient();
             }
@@ -181,7 +197,12 @@ impl<'a> Whitted<'a> {
                 side,
                 object: Some(index),
             };
-            for (li, light) in scene.lights().iter().enumerate() {
+            let lights = if self.photons.no_direct {
+                &[][..]
+            } else {
+                scene.lights()
+            };
+            for (li, light) in lights.iter().enumerate() {
                 let l = (light.center() - point).normalize_or_zero();
                 let d = l.dot(n);
                 let mut seen = LightSeen {
@@ -264,6 +285,18 @@ impl<'a> Whitted<'a> {
                 obs.light(&seen);
                 let weight = seen.diffuse + seen.specular;
                 color += k * light.color * weight;
+            }
+            if let Some(map) = self.photons.map
+                && m.diff > 0.0
+            {
+                let brdf = Brdf {
+                    diff: m.diff,
+                    spec: if self.photons.specular { m.spec } else { 0.0 },
+                    mirror: reflect(ray.dir, n),
+                };
+                let gathered = map.estimate(point, side, &brdf);
+                obs.photons(&gathered);
+                color += k * gathered.value;
             }
         }
 
@@ -362,151 +395,5 @@ impl<'a> Whitted<'a> {
         }
         obs.shaded(color);
         self.clamp(color, depth)
-    }
-}
-
-/// `d` mirrored about the unit normal `n`.
-#[inline]
-fn reflect(d: DVec3, n: DVec3) -> DVec3 {
-    d - n * (2.0 * d.dot(n))
-}
-
-/// Snell's law for unit `d` arriving against unit `n` with index ratio
-/// `eta`; `None` on total internal reflection.
-#[inline]
-fn refract(d: DVec3, n: DVec3, eta: f64) -> Option<DVec3> {
-    let cos_i = -d.dot(n);
-    let k = 1.0 - eta * eta * (1.0 - cos_i * cos_i);
-    (k >= 0.0).then(|| (d * eta + n * (eta * cos_i - k.sqrt())).normalize())
-}
-
-/// The mirror direction perturbed by the `exp` blur: offset by
-/// drefl·(x·a1 + y·a2) with radius 2^u − 1 and a uniform angle. A direction
-/// pushed below the surface is folded back above it.
-#[inline(always)]
-fn glossy_direction(
-    mirror: DVec3,
-    side: DVec3,
-    a1: DVec3,
-    a2: DVec3,
-    drefl: f64,
-    rng: &mut Pcg32,
-) -> DVec3 {
-    let radius = (rng.random::<f64>()).exp2() - 1.0;
-    // A uniform angle as a point of the unit circle, without sin and cos: a
-    // point (x, y) uniform in the unit disc has a uniform angle θ, and so has
-    // 2θ, whose cosine and sine are (x² − y², 2xy) / r² (no square root).
-    let (c, s) = loop {
-        let x = 2.0 * rng.random::<f64>() - 1.0;
-        let y = 2.0 * rng.random::<f64>() - 1.0;
-        let r2 = x * x + y * y;
-        if r2 <= 1.0 && r2 > 1e-12 {
-            let inv = 1.0 / r2;
-            break ((x * x - y * y) * inv, 2.0 * x * y * inv);
-        }
-    };
-    let mut dir = (mirror + (a1 * c + a2 * s) * (radius * drefl)).normalize();
-    let below = dir.dot(side);
-    if below < 0.0 {
-        dir -= side * (2.0 * below);
-    }
-    dir
-}
-
-/// The lineages' glossy direction: the mirror direction offset by
-/// drefl²·(x·a1 + y·a2), (x, y) uniform in the unit disk (the disk is
-/// symmetric, so any perpendicular pair serves).
-#[inline(always)]
-fn disk_direction(mirror: DVec3, a1: DVec3, a2: DVec3, drefl: f64, rng: &mut Pcg32) -> DVec3 {
-    let (x, y) = loop {
-        let x = 2.0 * rng.random::<f64>() - 1.0;
-        let y = 2.0 * rng.random::<f64>() - 1.0;
-        if x * x + y * y <= 1.0 {
-            break (x, y);
-        }
-    };
-    (mirror + (a1 * x + a2 * y) * (drefl * drefl)).normalize()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn snell_and_total_internal_reflection() {
-        // 45° into glass of index 1.5: sin t = sin 45° / 1.5.
-        let d = DVec3::new(1.0, 0.0, -1.0).normalize();
-        let t = refract(d, DVec3::Z, 1.0 / 1.5);
-        let sin_t = (0.5f64.sqrt()) / 1.5;
-        assert!(
-            t.is_some_and(|t| (t.x - sin_t).abs() < 1e-14
-                && (t.z + (1.0 - sin_t * sin_t).sqrt()).abs() < 1e-14)
-        );
-        // Leaving glass at 45° with index 1.5: sin t would be 1.06 > 1.
-        assert!(refract(d, DVec3::Z, 1.5).is_none());
-        assert_eq!(reflect(d, DVec3::Z), DVec3::new(d.x, 0.0, -d.z));
-    }
-
-    #[test]
-    fn glossy_directions_stay_above_the_surface_and_near_the_mirror() {
-        use rand::SeedableRng;
-        let mut rng = Pcg32::seed_from_u64(7);
-        // Steep mirror direction: no folding, so the angle to it is at most atan(drefl).
-        let mirror = DVec3::new(1.0, 0.0, 1.0).normalize();
-        let (a1, a2) = perpendiculars(mirror);
-        let mut max_angle: f64 = 0.0;
-        for _ in 0..2000 {
-            let d = glossy_direction(mirror, DVec3::Z, a1, a2, 0.25, &mut rng);
-            assert!((d.length() - 1.0).abs() < 1e-12);
-            max_angle = max_angle.max(d.dot(mirror).clamp(-1.0, 1.0).acos());
-        }
-        assert!(max_angle <= 0.25f64.atan() + 1e-12);
-        assert!(
-            max_angle > 0.2,
-            "the blur reaches close to its radius: {max_angle}"
-        );
-        // Grazing mirror direction: every sample is folded above the surface.
-        let mirror = DVec3::new(1.0, 0.0, 0.01).normalize();
-        let (a1, a2) = perpendiculars(mirror);
-        for _ in 0..2000 {
-            assert!(glossy_direction(mirror, DVec3::Z, a1, a2, 0.25, &mut rng).z >= 0.0);
-        }
-    }
-
-    #[test]
-    fn glossy_blur_angle_is_uniform_and_radius_follows_exp() {
-        use rand::SeedableRng;
-        let mut rng = Pcg32::seed_from_u64(11);
-        let mirror = DVec3::Z;
-        let (a1, a2) = perpendiculars(mirror);
-        let drefl = 0.5;
-        let n = 64_000;
-        let mut angle_bins = [0u32; 16];
-        let mut below_half = 0u32;
-        for _ in 0..n {
-            let d = glossy_direction(mirror, DVec3::Z, a1, a2, drefl, &mut rng);
-            // Back to the offset in the (a1, a2) plane: d ∝ mirror + offset.
-            let off = d / d.dot(mirror) - mirror;
-            let (x, y) = (off.dot(a1), off.dot(a2));
-            let phi = y.atan2(x).rem_euclid(std::f64::consts::TAU);
-            angle_bins[((phi / std::f64::consts::TAU) * 16.0) as usize % 16] += 1;
-            // radius = drefl·(2^u − 1): below drefl·(√2 − 1) exactly when u < ½.
-            if (x * x + y * y).sqrt() < drefl * (2f64.sqrt() - 1.0) {
-                below_half += 1;
-            }
-        }
-        // Chi-square with 15 degrees of freedom: 37.7 is its 0.999 quantile.
-        let expected = n as f64 / 16.0;
-        let chi2: f64 = angle_bins
-            .iter()
-            .map(|&k| (k as f64 - expected).powi(2) / expected)
-            .sum();
-        assert!(chi2 < 37.7, "angle not uniform: {angle_bins:?} chi2={chi2}");
-        // Half the radii below the median of 2^u − 1, within 4 standard deviations.
-        let sd = (n as f64 * 0.25).sqrt();
-        assert!(
-            (below_half as f64 - n as f64 / 2.0).abs() < 4.0 * sd,
-            "{below_half} of {n} radii below the median"
-        );
     }
 }

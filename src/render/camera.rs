@@ -18,6 +18,17 @@ pub struct CameraRays {
     width: f64,
     height: f64,
     lens: Lens,
+    /// The thin lens: its radius (`aperture=`) over the unit right and up
+    /// vectors, and the focus distance along N (`focalLen=`); `None`: a pinhole.
+    thin_lens: Option<ThinLens>,
+}
+
+/// A thin lens's disc and focus.
+#[derive(Clone, Copy, Debug)]
+struct ThinLens {
+    right: DVec3,
+    up: DVec3,
+    focal: f64,
 }
 
 /// unit(N × ẑ), or x̂ when N is vertical: the framework's right-hand direction.
@@ -39,6 +50,12 @@ impl CameraRays {
             Lens::Framework | Lens::Spanned => right_of(n),
         };
         let up = right.cross(n);
+        let dof = &camera.dof;
+        let thin_lens = (dof.aperture > 0.0).then(|| ThinLens {
+            right: right * dof.aperture,
+            up: up * dof.aperture,
+            focal: dof.focal_len,
+        });
         CameraRays {
             origin: camera.origin,
             dir: n,
@@ -47,6 +64,29 @@ impl CameraRays {
             width: width as f64,
             height: height as f64,
             lens,
+            thin_lens,
+        }
+    }
+
+    /// Whether it has a lens of non-zero aperture.
+    pub fn has_lens(&self) -> bool {
+        self.thin_lens.is_some()
+    }
+
+    /// The ray from point (`lx`, `ly`) of the unit disc on the lens towards
+    /// the point where the pinhole ray through image position (`i`, `j`)
+    /// meets the plane in focus (the pinhole ray without a lens).
+    #[inline]
+    pub fn lens_ray(&self, i: f64, j: f64, (lx, ly): (f64, f64)) -> Ray {
+        let d = self.direction(i, j);
+        match self.thin_lens {
+            Some(t) => {
+                // d·N = 1: O + d·focal lies on the plane in focus.
+                let focus = self.origin + d * t.focal;
+                let from = self.origin + t.right * lx + t.up * ly;
+                Ray::new(from, (focus - from).normalize())
+            }
+            None => Ray::new(self.origin, d.normalize()),
         }
     }
 
@@ -54,7 +94,13 @@ impl CameraRays {
     /// columns from the left), both in pixels (pixel centres at k + ½).
     #[inline]
     pub fn ray(&self, i: f64, j: f64) -> Ray {
-        let d = match self.lens {
+        Ray::new(self.origin, self.direction(i, j).normalize())
+    }
+
+    /// The lineage's (unnormalised) direction through image position (`i`, `j`).
+    #[inline]
+    fn direction(&self, i: f64, j: f64) -> DVec3 {
+        match self.lens {
             Lens::Framework => {
                 self.dir
                     + self.dy * (2.0 * i / self.height - 1.0)
@@ -71,14 +117,55 @@ impl CameraRays {
                     + self.dy * (2.0 * (self.height - i) / self.height)
                     + self.dx * (2.0 * j / self.width)
             }
-        };
-        Ray::new(self.origin, d.normalize())
+        }
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn thin_lens_rays_meet_on_the_plane_in_focus() {
+        use crate::scene::DepthOfField;
+        let cam = Camera {
+            origin: DVec3::new(1.0, -2.0, 0.5),
+            dir: DVec3::new(0.0, 1.0, -0.2).normalize(),
+            lens_w: 1.0,
+            lens_h: 0.6,
+            dof: DepthOfField {
+                aperture: 0.1,
+                focal_len: 3.0,
+                samples: 8,
+            },
+            ..Camera::default()
+        };
+        let pinhole = CameraRays::new(
+            &Camera {
+                dof: DepthOfField::default(),
+                ..cam.clone()
+            },
+            100,
+            60,
+            Lens::Spanned,
+        );
+        let c = CameraRays::new(&cam, 100, 60, Lens::Spanned);
+        assert!(c.has_lens() && !pinhole.has_lens());
+        for (i, j) in [(30.0, 50.0), (3.5, 90.25), (59.0, 0.5)] {
+            // Where the pinhole ray meets the plane 3 along N from the eye.
+            let p = pinhole.ray(i, j);
+            let focus = p.origin + p.dir * (3.0 / p.dir.dot(cam.dir));
+            for disc in [(0.0, 0.0), (1.0, 0.0), (0.0, -1.0), (0.6, 0.7)] {
+                let r = c.lens_ray(i, j, disc);
+                // It leaves the lens: within the aperture, in the plane ⟂ N.
+                let off = r.origin - cam.origin;
+                assert!(off.dot(cam.dir).abs() < 1e-15 && off.length() <= 0.1 + 1e-15);
+                // And passes through the point in focus.
+                let t = (focus - r.origin).dot(r.dir);
+                assert!((r.origin + r.dir * t - focus).length() < 1e-12);
+            }
+        }
+    }
 
     #[test]
     fn centre_and_corners_follow_the_spec() {

@@ -37,6 +37,9 @@ pub(crate) struct Frame<'a> {
     pub width: u32,
     pub height: u32,
     seed: u64,
+    /// Whether lens samples all pass through the pixel's centre (the
+    /// lineages' depth of field without `--spp`).
+    centred: bool,
 }
 
 impl<'a> Frame<'a> {
@@ -51,6 +54,15 @@ impl<'a> Frame<'a> {
             width,
             height,
             seed,
+            centred: false,
+        }
+    }
+
+    /// The frame with its lens samples through the pixels' centres.
+    pub fn centred(self) -> Self {
+        Frame {
+            centred: true,
+            ..self
         }
     }
 
@@ -67,21 +79,44 @@ impl<'a> Frame<'a> {
     /// The camera ray at sub-pixel offset (fx, fy) in [0,1)² of pixel (x, y),
     /// fy measured downward from the pixel's top edge.
     pub fn ray(&self, x: u32, y: u32, fx: f64, fy: f64) -> Ray {
-        // Framework row i counts from the bottom: pixel y covers i ∈ [H−1−y, H−y).
-        let i = (self.height - 1 - y) as f64 + (1.0 - fy);
-        let j = x as f64 + fx;
+        let (i, j) = self.image_position(x, y, fx, fy);
         self.camera.ray(i, j)
     }
 
     /// Camera sample `s` of pixel (x, y) among `rows` × `cols` jittered
     /// strata: its ray, and its random stream after the jitter was drawn.
+    /// With a lens, the ray leaves a point of the lens drawn after the
+    /// jitter (all through the pixel's centre when the frame is `centred`).
     pub fn jittered(&self, x: u32, y: u32, s: u32, (rows, cols): (u32, u32)) -> (Ray, PathState) {
         use rand::Rng;
         let (r, c) = (s / cols, s % cols);
         let mut st = self.state(x, y, s);
-        let fx = (c as f64 + st.rng.random::<f64>()) / cols as f64;
-        let fy = (r as f64 + st.rng.random::<f64>()) / rows as f64;
-        (self.ray(x, y, fx, fy), st)
+        let (fx, fy) = if self.centred {
+            (0.5, 0.5)
+        } else {
+            let fx = (c as f64 + st.rng.random::<f64>()) / cols as f64;
+            let fy = (r as f64 + st.rng.random::<f64>()) / rows as f64;
+            (fx, fy)
+        };
+        if !self.camera.has_lens() {
+            return (self.ray(x, y, fx, fy), st);
+        }
+        let disc = loop {
+            let u = 2.0 * st.rng.random::<f64>() - 1.0;
+            let v = 2.0 * st.rng.random::<f64>() - 1.0;
+            if u * u + v * v <= 1.0 {
+                break (u, v);
+            }
+        };
+        let (i, j) = self.image_position(x, y, fx, fy);
+        (self.camera.lens_ray(i, j, disc), st)
+    }
+
+    /// Frame position (rows from the bottom, columns) of sub-pixel (fx, fy)
+    /// of pixel (x, y).
+    fn image_position(&self, x: u32, y: u32, fx: f64, fy: f64) -> (f64, f64) {
+        // Framework row i counts from the bottom: pixel y covers i ∈ [H−1−y, H−y).
+        ((self.height - 1 - y) as f64 + (1.0 - fy), x as f64 + fx)
     }
 
     /// The camera sample of pass 1 at pixel (x, y): the ray through its
@@ -317,7 +352,11 @@ mod tests {
     fn packets_equal_single_rays() -> Result<(), crate::scene::SceneError> {
         let scene = scene()?;
         let (accel, camera) = prepared(&scene);
-        let frame = Frame::new(&camera, Integrator::whitted(&scene, &camera, &accel), 7);
+        let frame = Frame::new(
+            &camera,
+            Integrator::whitted(&scene, &camera, &accel, Default::default()),
+            7,
+        );
         let mut hints = ShadowHints::default();
         let mut compared = 0;
         let mut distinct = std::collections::HashSet::new();
@@ -401,7 +440,11 @@ mod tests {
     fn stratified_packets_equal_single_rays() -> Result<(), crate::scene::SceneError> {
         let scene = scene()?;
         let (accel, camera) = prepared(&scene);
-        let frame = Frame::new(&camera, Integrator::whitted(&scene, &camera, &accel), 11);
+        let frame = Frame::new(
+            &camera,
+            Integrator::whitted(&scene, &camera, &accel, Default::default()),
+            11,
+        );
         let mut hints = ShadowHints::default();
         // Sample counts whose packets hold many pixels, end inside a pixel
         // (6, 9, 43) or cover part of one (70); tiles whole, and cut at the
@@ -439,7 +482,11 @@ mod tests {
     {
         let scene = scene()?;
         let (accel, camera) = prepared(&scene);
-        let frame = Frame::new(&camera, Integrator::whitted(&scene, &camera, &accel), 3);
+        let frame = Frame::new(
+            &camera,
+            Integrator::whitted(&scene, &camera, &accel, Default::default()),
+            3,
+        );
         let options = crate::render::RenderOptions {
             threads: Some(2),
             seed: 3,

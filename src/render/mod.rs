@@ -9,6 +9,7 @@ mod explain;
 mod film;
 mod frame;
 mod passes;
+mod photons;
 mod report;
 mod schedule;
 mod shading_passes;
@@ -17,10 +18,12 @@ mod verdict;
 pub use aov::Aov;
 pub use explain::{Explanation, Sampling};
 pub use film::{Film, Plane, Region};
+pub use photons::PhotonStats;
 pub use schedule::MAX_THREADS;
 pub(crate) use verdict::{Cause, place};
 
-use crate::integrator::{Integrator, RayCounts, SceneAccel};
+use crate::integrator::photons::{PhotonMap, PhotonMode, PhotonOptions, Plan, Term};
+use crate::integrator::{Integrator, Model, PhotonShading, RayCounts, SceneAccel};
 use crate::output::Image;
 use crate::scene::{Camera, LightKind, MAX_IMAGE_SIDE, Scene};
 use frame::Frame;
@@ -54,6 +57,8 @@ pub struct RenderOptions {
     /// Passes to store as planes of the film beside the colour, named as
     /// [`Aov::name`] says (the picture is the same with or without them).
     pub aovs: Vec<Aov>,
+    /// Photon mapping as the command line overrides it.
+    pub photons: PhotonOptions,
 }
 
 /// Figures about a finished render.
@@ -67,6 +72,8 @@ pub struct RenderStats {
     pub build: Duration,
     /// Pixels re-rendered by the adaptive anti-aliasing.
     pub refined_pixels: u64,
+    /// The photon passes' figures (all zero without photons).
+    pub photons: PhotonStats,
 }
 
 impl RenderStats {
@@ -124,15 +131,33 @@ pub enum RenderError {
     /// The cancel flag was set.
     #[error("the render was cancelled")]
     Cancelled,
+    /// More PPM hit points than the camera's `max_hitpoints=` allows.
+    #[error(
+        "the eye pass found {found} hit points, more than `max_hitpoints= {max}`: raise it in the camera block, or render smaller"
+    )]
+    HitPoints {
+        /// Hit points found.
+        found: u64,
+        /// The key's value.
+        max: u64,
+    },
 }
+
+/// What PPM and SPPM hand the picture so far to: (iteration, film).
+pub type Checkpoint<'c> = &'c (dyn Fn(u64, &Film) + Sync);
 
 /// What a render tells as it goes, and how to stop it.
 #[derive(Clone, Copy, Default)]
 pub struct Control<'c> {
     /// Called with (done, total), in units of camera rays, as rows finish.
     pub progress: Option<&'c (dyn Fn(u64, u64) + Sync)>,
-    /// Stops the render at once when another thread sets it.
+    /// Stops the render at once when another thread sets it (PPM and SPPM:
+    /// after the last complete iteration, whose picture is the result).
     pub cancel: Option<&'c AtomicBool>,
+    /// PPM and SPPM: given (iteration, film) every `checkpoint_every` iterations.
+    pub checkpoint: Option<Checkpoint<'c>>,
+    /// How many iterations apart checkpoints are (0: 10).
+    pub checkpoint_every: u64,
 }
 
 /// Which image of a progressive render a callback is given.
@@ -183,7 +208,7 @@ impl Renderer {
         w: u32,
         h: u32,
     ) -> impl Fn(u32, u32) -> crate::geometry::Ray + '_ {
-        let frame = self.frame(w, h, 0);
+        let frame = self.frame(w, h, 0, PhotonShading::default());
         move |x, y| frame.ray(x, y, 0.5, 0.5)
     }
 
@@ -287,18 +312,60 @@ impl Renderer {
                 frame_h: h,
             });
         }
-        let frame = self.frame(w, h, options.seed);
+        let (plan, _) = Plan::of(&self.scene, &options.photons);
+        let model = Model::of(self.scene.dialect().dialect, self.scene.camera());
+        let (map, mut photon_stats) = if plan.mode == PhotonMode::Pm {
+            let (map, stats) = schedule::with_threads(options.threads, || {
+                photons::photon_map(&self.scene, &self.accel, &model, &plan, options.seed)
+            });
+            (Some(map), stats)
+        } else {
+            (None, PhotonStats::default())
+        };
+        let shading = self.photon_shading(&plan, map.as_ref());
+        let (spp, frame) = self.sampled_frame(w, h, options, shading);
         let watch = Watch {
             progress: control.progress.unwrap_or(&|_, _| {}),
             cancel: control.cancel,
         };
         let count = options.aovs.contains(&Aov::Rays);
-        let done = schedule::with_threads(options.threads, || {
-            render_region(&frame, region, options.spp, count, &watch)
-        });
-        let done = done.ok_or(RenderError::Cancelled)?;
-        let (rays, refined) = (done.rays, done.refined);
-        let image = Image::from_pixels(region.width, region.height, done.pixels);
+        let (pixels, rays, refined, rays_per_pixel) = if plan.mode.progressive() {
+            let p = photons::Progressive {
+                frame: &frame,
+                scene: &self.scene,
+                accel: &self.accel,
+                plan: &plan,
+                seed: options.seed,
+                checkpoint: match control.checkpoint_every {
+                    0 => 10,
+                    n => n,
+                },
+            };
+            let mut each = |i: u64, pixels: &[[f32; 3]]| {
+                if let Some(checkpoint) = control.checkpoint {
+                    let image = Image::from_pixels(region.width, region.height, pixels.to_vec());
+                    checkpoint(i, &Film::new((w, h), region, image));
+                }
+            };
+            let (pixels, rays, stats) = schedule::with_threads(options.threads, || {
+                photons::progressive(&p, region, spp, &watch, &mut each)
+            })
+            .map_err(|e| match e {
+                photons::Unfinished::Cancelled => RenderError::Cancelled,
+                photons::Unfinished::HitPoints { found, max } => {
+                    RenderError::HitPoints { found, max }
+                }
+            })?;
+            photon_stats = stats;
+            (pixels, rays, 0, None)
+        } else {
+            let done = schedule::with_threads(options.threads, || {
+                render_region(&frame, region, spp, count, &watch)
+            });
+            let done = done.ok_or(RenderError::Cancelled)?;
+            (done.pixels, done.rays, done.refined, done.rays_per_pixel)
+        };
+        let image = Image::from_pixels(region.width, region.height, pixels);
         let mut film = Film::new((w, h), region, image);
         let first_hit: Vec<Aov> = options
             .aovs
@@ -318,7 +385,7 @@ impl Renderer {
                 shading_passes::shading_planes(&frame, &self.scene, region, &options.aovs)
             }));
         }
-        if let Some(counts) = done.rays_per_pixel {
+        if let Some(counts) = rays_per_pixel {
             planes.push((Aov::Rays, counts));
         }
         // In the order asked for.
@@ -332,6 +399,7 @@ impl Renderer {
             elapsed: start.elapsed(),
             build: self.build,
             refined_pixels: refined,
+            photons: photon_stats,
         };
         Ok((film, stats))
     }
@@ -360,12 +428,22 @@ impl Renderer {
                 frame_h: h,
             });
         }
-        let frame = self.frame(w, h, options.seed);
+        // PM's map as the render traces it (PPM's and SPPM's iterations are
+        // not repeated: their pixels' direct part is explained).
+        let (plan, _) = Plan::of(&self.scene, &options.photons);
+        let model = Model::of(self.scene.dialect().dialect, self.scene.camera());
+        let map = (plan.mode == PhotonMode::Pm).then(|| {
+            schedule::with_threads(options.threads, || {
+                photons::photon_map(&self.scene, &self.accel, &model, &plan, options.seed).0
+            })
+        });
+        let shading = self.photon_shading(&plan, map.as_ref());
+        let (spp, frame) = self.sampled_frame(w, h, options, shading);
         Ok(explain::explain_pixel(
             &frame,
             &self.scene,
             &self.accel,
-            options.spp,
+            spp,
             (x, y),
         ))
     }
@@ -389,15 +467,48 @@ impl Renderer {
         self.scene.path().map(|p| p.display().to_string())
     }
 
-    /// The frame of a `w` × `h` render with the random streams of `seed`.
-    fn frame(&self, w: u32, h: u32, seed: u64) -> Frame<'_> {
+    /// The frame of a `w` × `h` render with the random streams of `seed`,
+    /// shading with `photons`.
+    fn frame<'s>(&'s self, w: u32, h: u32, seed: u64, photons: PhotonShading<'s>) -> Frame<'s> {
         let camera = Camera {
             width: w,
             height: h,
             ..self.scene.camera().clone()
         };
-        let integrator = Integrator::whitted(&self.scene, &camera, &self.accel);
+        let integrator = Integrator::whitted(&self.scene, &camera, &self.accel, photons);
         Frame::new(&camera, integrator, seed)
+    }
+
+    /// The frame `options` render and the samples a pixel takes: `--spp`,
+    /// or with an open lens `dofSample=` rays through the pixel's centre.
+    fn sampled_frame<'s>(
+        &'s self,
+        w: u32,
+        h: u32,
+        options: &RenderOptions,
+        photons: PhotonShading<'s>,
+    ) -> (Option<u32>, Frame<'s>) {
+        let frame = self.frame(w, h, options.seed, photons);
+        let dof = &self.scene.camera().dof;
+        match options.spp {
+            None if dof.aperture > 0.0 => (Some(dof.samples.max(1)), frame.centred()),
+            spp => (spp, frame),
+        }
+    }
+
+    /// How the ray tracer shades under `plan`, gathering from `map` (PM).
+    fn photon_shading<'s>(&self, plan: &Plan, map: Option<&'s PhotonMap>) -> PhotonShading<'s> {
+        PhotonShading {
+            map,
+            no_direct: plan.mode != PhotonMode::Off && plan.term == Term::Replace,
+            specular: plan.specular,
+        }
+    }
+
+    /// The notes and warnings about photons a render of `options` makes:
+    /// which algorithm runs, keys without effect, settings that switch it off.
+    pub fn photon_notes(&self, options: &RenderOptions) -> Vec<String> {
+        Plan::of(&self.scene, &options.photons).1
     }
 
     /// Renders a quarter-size preview at one ray per pixel, hands it to
@@ -566,8 +677,8 @@ mod tests {
         let r = scene();
         let flag = AtomicBool::new(true);
         let control = Control {
-            progress: None,
             cancel: Some(&flag),
+            ..Control::default()
         };
         for spp in [None, Some(2)] {
             let options = RenderOptions {

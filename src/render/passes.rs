@@ -21,7 +21,8 @@ pub(crate) struct Watch<'w> {
 }
 
 impl Watch<'_> {
-    fn cancelled(&self) -> bool {
+    /// Whether the render was asked to stop.
+    pub fn cancelled(&self) -> bool {
         self.cancel.is_some_and(|c| c.load(Ordering::Relaxed))
     }
 }

@@ -70,6 +70,8 @@ pub struct PhotonSettings {
     pub iterations: Option<u64>,
     /// Progressive radius reduction (`reduction=`), if given.
     pub reduction: Option<f64>,
+    /// The photon keys the file sets, in the order read.
+    pub keys: Vec<&'static str>,
 }
 
 impl Default for PhotonSettings {
@@ -82,6 +84,7 @@ impl Default for PhotonSettings {
             max_hitpoints: None,
             iterations: None,
             reduction: None,
+            keys: Vec::new(),
         }
     }
 }

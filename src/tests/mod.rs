@@ -12,3 +12,4 @@ mod geometry;
 mod lights;
 mod lineages;
 mod parser;
+mod photons;

@@ -1,0 +1,22 @@
+//! Photon mapping (`photon-mapping.md`): photons traced from the lights
+//! and stored on diffuse surfaces, then gathered at the eye's diffuse hits,
+//! once (PM, through a k-d tree) or progressively over iterations (PPM and
+//! SPPM, through a hashed grid of each pass's photons).
+
+mod gather;
+mod map;
+mod plan;
+mod points;
+mod progressive;
+mod trace;
+mod units;
+
+pub(crate) use gather::PhotonGrid;
+pub(crate) use map::{Brdf, Gathered, PhotonMap};
+pub use plan::{PhotonFilter, PhotonMode, PhotonOptions};
+pub(crate) use plan::{Plan, Term};
+pub(crate) use points::{HitPointObserver, HitPointSeed};
+pub(crate) use progressive::{HitPoint, gather, update_hit_point};
+#[cfg(test)]
+pub(crate) use trace::Photon;
+pub(crate) use trace::shoot;

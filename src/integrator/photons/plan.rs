@@ -1,0 +1,214 @@
+//! Which photon algorithm a render runs and with which settings: the
+//! file's dialect and `algorithm=`, the camera's photon keys and the
+//! command line's overrides (`photon-mapping.md`, "When photons are traced").
+
+use crate::scene::{Dialect, Scene};
+
+/// A photon algorithm, or none.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum PhotonMode {
+    /// Whitted only.
+    Off,
+    /// One photon map, gathered with the K nearest photons.
+    Pm,
+    /// Progressive photon mapping: fixed hit points, shrinking radii.
+    Ppm,
+    /// Stochastic progressive photon mapping: fresh jittered hit points
+    /// every iteration.
+    Sppm,
+}
+
+impl PhotonMode {
+    /// The mode named `s` (`pm`, `ppm`, `sppm`, `off`; any case).
+    pub fn from_name(s: &str) -> Option<PhotonMode> {
+        match s.to_ascii_lowercase().as_str() {
+            "off" | "none" | "rt" => Some(PhotonMode::Off),
+            "pm" => Some(PhotonMode::Pm),
+            "ppm" => Some(PhotonMode::Ppm),
+            "sppm" => Some(PhotonMode::Sppm),
+            _ => None,
+        }
+    }
+
+    /// Its name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            PhotonMode::Off => "off",
+            PhotonMode::Pm => "pm",
+            PhotonMode::Ppm => "ppm",
+            PhotonMode::Sppm => "sppm",
+        }
+    }
+
+    /// Whether it runs in iterations.
+    pub fn progressive(self) -> bool {
+        matches!(self, PhotonMode::Ppm | PhotonMode::Sppm)
+    }
+}
+
+/// How gathered photons are weighted by their distance.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum PhotonFilter {
+    /// Every photon counts fully.
+    #[default]
+    Box,
+    /// Jensen's cone filter: 1 − dist/(1.1·r), normalised.
+    Cone,
+}
+
+/// What the command line says about photons; `None` fields: as the file says.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Hash)]
+pub struct PhotonOptions {
+    /// `--photons`: the algorithm, forced on or off.
+    pub mode: Option<PhotonMode>,
+    /// `--iterations`: PPM and SPPM passes.
+    pub iterations: Option<u64>,
+    /// `--emit`: photons emitted per pass.
+    pub emit: Option<u64>,
+    /// `--photon-filter`.
+    pub filter: PhotonFilter,
+}
+
+/// How the photon term joins a diffuse hit's colour.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Term {
+    /// Z14: all diffuse light comes from photons (the lights' direct term is
+    /// not traced); photons are stored at every diffuse hit.
+    Replace,
+    /// Added to the ray-traced direct light; photons are stored from their
+    /// second hit on (the variants), or only after a mirror or glass bounce
+    /// (`caustics`: the framework's and W's model, forced on).
+    Add {
+        /// Only photons that passed a mirror or glass are stored.
+        caustics: bool,
+    },
+}
+
+/// A render's photon settings, resolved.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Plan {
+    /// The algorithm.
+    pub mode: PhotonMode,
+    /// Photons emitted per pass.
+    pub emit: u64,
+    /// Most photons stored per pass.
+    pub max_photons: u64,
+    /// K of the K-nearest estimate.
+    pub k: usize,
+    /// Largest gather radius R.
+    pub radius: f64,
+    /// PPM/SPPM passes.
+    pub iterations: u64,
+    /// α of the radius update.
+    pub reduction: f64,
+    /// Most PPM hit points.
+    pub max_hitpoints: u64,
+    /// How the term joins the direct light, and which photons are stored.
+    pub term: Term,
+    /// Whether gathered photons carry the lineage's specular lobe
+    /// spec·max(0, R_I·(−d))^50 (PM3 and V).
+    pub specular: bool,
+    /// The distance filter.
+    pub filter: PhotonFilter,
+}
+
+impl Plan {
+    /// The plan for `scene` with the command line's `options`, and the
+    /// notes it makes (keys without effect, settings that switch photons off).
+    pub fn of(scene: &Scene, options: &PhotonOptions) -> (Plan, Vec<String>) {
+        let dialect = scene.dialect().dialect;
+        let cam = scene.camera();
+        let p = &cam.photons;
+        let mut notes = Vec::new();
+        let file_mode = match dialect {
+            Dialect::Z14 | Dialect::Pm3 => PhotonMode::Pm,
+            Dialect::V => match cam.algorithm.as_deref() {
+                Some("PM") => PhotonMode::Pm,
+                Some("PPM") => PhotonMode::Ppm,
+                Some("RC" | "RT") => PhotonMode::Off,
+                // V's default `algorithm=` is SPPM (lineages.md §3.3).
+                _ => PhotonMode::Sppm,
+            },
+            Dialect::F | Dialect::W => PhotonMode::Off,
+        };
+        let mut mode = options.mode.unwrap_or(file_mode);
+        let term = match dialect {
+            Dialect::Z14 => Term::Replace,
+            Dialect::Pm3 | Dialect::V => Term::Add { caustics: false },
+            Dialect::F | Dialect::W => Term::Add { caustics: true },
+        };
+        let emit = options.emit.unwrap_or(p.emit_photons);
+        let radius = p.sample_dist;
+        if mode != PhotonMode::Off && emit == 0 {
+            notes.push("warning: `emit_photons=` is 0: no photon pass".to_string());
+            mode = PhotonMode::Off;
+        }
+        if mode != PhotonMode::Off && radius <= 0.0 {
+            notes.push("warning: `sample_dist=` is 0: no photon term".to_string());
+            mode = PhotonMode::Off;
+        }
+        if mode != PhotonMode::Off
+            && !scene
+                .lights()
+                .iter()
+                .any(|l| super::units::power(l.color) > 0.0)
+        {
+            notes.push(
+                "warning: no light has any power (colour sum ≤ 0): no photon pass".to_string(),
+            );
+            mode = PhotonMode::Off;
+        }
+        let plan = Plan {
+            mode,
+            emit,
+            max_photons: p.max_photons.max(1),
+            k: p.sample_photons.clamp(1, 1 << 20) as usize,
+            radius,
+            iterations: options.iterations.or(p.iterations).unwrap_or(5000).max(1),
+            reduction: p.reduction.unwrap_or(0.7),
+            max_hitpoints: p.max_hitpoints.unwrap_or(4_000_000),
+            term,
+            specular: matches!(dialect, Dialect::Pm3 | Dialect::V),
+            filter: options.filter,
+        };
+        plan.note_unused(scene, file_mode, &mut notes);
+        (plan, notes)
+    }
+
+    /// Notes for the photon keys the file sets that have no effect here.
+    fn note_unused(&self, scene: &Scene, file_mode: PhotonMode, notes: &mut Vec<String>) {
+        let set = |k: &str| scene.camera().photons.keys.contains(&k);
+        let progressive_keys = ["max_hitpoints", "iterations", "reduction"];
+        let map_keys = [
+            "emit_photons",
+            "max_photons",
+            "sample_photons",
+            "sample_dist",
+        ];
+        let unused: Vec<&str> = match self.mode {
+            PhotonMode::Off => map_keys.iter().chain(&progressive_keys).copied().collect(),
+            PhotonMode::Pm => progressive_keys.to_vec(),
+            PhotonMode::Ppm | PhotonMode::Sppm => Vec::new(),
+        };
+        let unused: Vec<String> = unused
+            .into_iter()
+            .filter(|k| set(k))
+            .map(|k| format!("`{k}=`"))
+            .collect();
+        if !unused.is_empty() {
+            let why = match self.mode {
+                PhotonMode::Off if file_mode == PhotonMode::Off => {
+                    "this file's dialect traces no photons (try --photons pm)".to_string()
+                }
+                mode => format!("photons: {}", mode.name()),
+            };
+            notes.push(format!("note: {} have no effect: {why}", unused.join(" ")));
+        }
+        if self.mode == PhotonMode::Off && file_mode != PhotonMode::Off {
+            notes.push(format!(
+                "note: photons off: the file's dialect renders {} (indirect light and caustics not rendered)",
+                file_mode.name()
+            ));
+        }
+    }
+}

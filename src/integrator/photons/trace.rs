@@ -1,0 +1,306 @@
+//! Photon tracing (`photon-mapping.md`, Units, Emission, Tracing): each
+//! light's share of the photons leaves it with power 4π·c/n, bounces by
+//! Russian roulette and is stored at diffuse hits. Photon j of pass i draws
+//! from its own stream keyed by (seed, i, j), so a pass is the same
+//! whatever the threads.
+
+use super::plan::{Plan, Term};
+use super::units::{MAX_PHOTON_HITS, power};
+use crate::geometry::perpendiculars;
+use crate::geometry::{Ray, offset_origin};
+use crate::integrator::SceneAccel;
+use crate::integrator::model::{Glossy, Inside, Model};
+use crate::integrator::observer::mix;
+use crate::integrator::optics::{
+    cosine_direction, disk_direction, glossy_direction, reflect, refract, sphere_direction,
+};
+use crate::scene::{Light, LightKind, Scene};
+use glam::DVec3;
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg32;
+use rayon::prelude::*;
+use std::f64::consts::PI;
+
+/// Photons traced per task: fixed, so the tasks (and the order their
+/// photons are joined in) do not depend on the threads.
+const CHUNK: u64 = 4096;
+
+/// A photon stored on a diffuse surface.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Photon {
+    /// Where it landed.
+    pub pos: DVec3,
+    /// The unit direction it travelled in.
+    pub dir: DVec3,
+    /// Its power (flux), RGB.
+    pub power: DVec3,
+    /// Mirror and glass bounces before it landed.
+    pub bounces: u32,
+}
+
+/// The photons of one pass.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct PhotonPass {
+    /// Stored photons, in photon order.
+    pub photons: Vec<Photon>,
+    /// Photons emitted.
+    pub emitted: u64,
+    /// Photons that would have been stored beyond `max_photons=` (the kept
+    /// ones were thinned evenly and their power scaled to make up for them).
+    pub thinned: u64,
+}
+
+/// Each emitting light's index and photon count (the counts add up to
+/// about `n`; lights with P(c) ≤ 0 get none).
+pub(crate) fn shares(lights: &[Light], n: u64) -> Vec<(usize, u64)> {
+    let total: f64 = lights.iter().map(|l| power(l.color).max(0.0)).sum();
+    if total <= 0.0 {
+        return Vec::new();
+    }
+    lights
+        .iter()
+        .enumerate()
+        .filter(|(_, l)| power(l.color) > 0.0)
+        .map(|(i, l)| (i, (n as f64 * power(l.color) / total).round() as u64))
+        .filter(|&(_, k)| k > 0)
+        .collect()
+}
+
+/// Traces pass `pass` of `plan.emit` photons through `scene`, in `model`.
+pub(crate) fn shoot(
+    scene: &Scene,
+    accel: &SceneAccel,
+    model: &Model,
+    plan: &Plan,
+    seed: u64,
+    pass: u64,
+) -> PhotonPass {
+    let shares = shares(scene.lights(), plan.emit);
+    // Light l's photons are the indices [start, start + n_l).
+    let mut starts = Vec::with_capacity(shares.len());
+    let mut emitted = 0u64;
+    for &(l, n) in &shares {
+        starts.push((emitted, l, n));
+        emitted += n;
+    }
+    let key = mix(mix(seed ^ 0x5048_4f54_4f4e_5321) ^ mix(pass));
+    let tracer = Tracer {
+        scene,
+        accel,
+        model,
+        plan,
+    };
+    let chunks: Vec<Vec<Photon>> = (0..emitted.div_ceil(CHUNK))
+        .into_par_iter()
+        .map(|c| {
+            let mut out = Vec::new();
+            let (lo, hi) = (c * CHUNK, ((c + 1) * CHUNK).min(emitted));
+            for j in lo..hi {
+                // The light whose range holds j.
+                let (_, l, n) = starts[starts.partition_point(|s| s.0 <= j) - 1];
+                let mut rng = Pcg32::seed_from_u64(mix(key ^ j));
+                tracer.trace(l, n, &mut rng, &mut out);
+            }
+            out
+        })
+        .collect();
+    let mut photons = chunks.concat();
+    let thinned = thin(&mut photons, plan.max_photons, key);
+    PhotonPass {
+        photons,
+        emitted,
+        thinned,
+    }
+}
+
+/// Keeps `max` of `photons` chosen evenly by a hash of their index (the
+/// same whatever the threads), in photon order, their power scaled by
+/// stored/kept; returns how many were dropped.
+fn thin(photons: &mut Vec<Photon>, max: u64, key: u64) -> u64 {
+    let n = photons.len() as u64;
+    if n <= max {
+        return 0;
+    }
+    let mut ranked: Vec<(u64, u32)> = (0..n as u32)
+        .map(|i| (mix(key ^ 0x7448_494e ^ u64::from(i)), i))
+        .collect();
+    ranked.select_nth_unstable(max as usize - 1);
+    let mut keep: Vec<u32> = ranked[..max as usize].iter().map(|&(_, i)| i).collect();
+    keep.sort_unstable();
+    let scale = n as f64 / max as f64;
+    *photons = keep
+        .iter()
+        .map(|&i| {
+            let mut p = photons[i as usize];
+            p.power *= scale;
+            p
+        })
+        .collect();
+    n - max
+}
+
+/// What one photon's path reads.
+struct Tracer<'a> {
+    scene: &'a Scene,
+    accel: &'a SceneAccel,
+    model: &'a Model,
+    plan: &'a Plan,
+}
+
+impl Tracer<'_> {
+    /// Traces one photon of light `l` (which emits `n` this pass), storing
+    /// it into `out` at each diffuse hit the plan keeps.
+    fn trace(&self, l: usize, n: u64, rng: &mut Pcg32, out: &mut Vec<Photon>) {
+        let light = &self.scene.lights()[l];
+        let (origin, dir) = emit(light, rng);
+        let mut flux = light.color * (4.0 * PI / n as f64);
+        let mut ray = Ray::new(origin, dir);
+        let (mut bounces, mut inside, mut hits) = (0u32, false, 0u32);
+        // A light's own surface is passed through: a few times at most.
+        let mut passes = 0;
+        while hits < MAX_PHOTON_HITS {
+            let Some((index, hit)) = self.accel.intersect(&ray, f64::INFINITY) else {
+                return;
+            };
+            let object = &self.accel.objects()[index as usize];
+            match object.light() {
+                Some(own) if own as usize == l && passes < 4 => {
+                    passes += 1;
+                    ray = Ray::off_surface(ray.at(hit.t), ray.dir);
+                    continue;
+                }
+                Some(_) => return,
+                None => {}
+            }
+            hits += 1;
+            let m = self.scene.material_of(object);
+            let shape = object.shape();
+            let mut surface = if m.texture.is_some() || m.normal_map.is_some() {
+                shape.surface(&ray, &hit)
+            } else {
+                shape.surface_untextured(&ray, &hit)
+            };
+            if let Some(map) = m
+                .normal_map
+                .and_then(|t| self.scene.textures().get(t as usize))
+            {
+                surface.shading_normal = shape.mapped_normal(&surface, map.sample(surface.uv));
+            }
+            let point = surface.point;
+            let front = surface.normal.dot(ray.dir) < 0.0;
+            let (side, nrm) = if front {
+                (surface.normal, surface.shading_normal)
+            } else {
+                (-surface.normal, -surface.shading_normal)
+            };
+            let k = self.model.albedo(&m, self.scene.textures(), surface.uv);
+            let within = match self.model.inside {
+                Inside::FrontFace => !front,
+                Inside::Parity => inside,
+            };
+            if m.diff > 0.0 && self.stores(hits, bounces) {
+                out.push(Photon {
+                    pos: point,
+                    dir: ray.dir,
+                    power: flux,
+                    bounces,
+                });
+            }
+            // Russian roulette over diffuse, reflect, refract (absorb the rest).
+            let transmit = if within {
+                (-m.absor * hit.t).exp()
+            } else {
+                DVec3::ONE
+            };
+            let (refl, refr) = if self.model.secondary {
+                (m.refl, m.refr)
+            } else {
+                (0.0, 0.0)
+            };
+            let mut p = [
+                m.diff * power(k),
+                refl * power(m.color),
+                refr * power(transmit),
+            ];
+            let sum: f64 = p.iter().sum();
+            if sum > 1.0 {
+                p.iter_mut().for_each(|x| *x /= sum);
+                flux *= sum;
+            }
+            let u = rng.random::<f64>();
+            let next = if u < p[0] {
+                flux *= k / power(k);
+                (offset_origin(point, side), cosine_direction(nrm, rng))
+            } else if u < p[0] + p[1] {
+                flux *= m.color / power(m.color);
+                bounces += 1;
+                (
+                    offset_origin(point, side),
+                    self.mirror(ray.dir, nrm, side, m.drefl, rng),
+                )
+            } else if u < p[0] + p[1] + p[2] {
+                flux *= transmit / power(transmit);
+                bounces += 1;
+                let rindex = if m.rindex <= 0.0 && self.model.unit_index_fallback {
+                    1.0
+                } else {
+                    m.rindex
+                };
+                let eta = if within { rindex } else { 1.0 / rindex };
+                match refract(ray.dir, nrm, eta) {
+                    Some(t) => {
+                        inside = !inside;
+                        (offset_origin(point, -side), t)
+                    }
+                    None => (offset_origin(point, side), reflect(ray.dir, nrm)),
+                }
+            } else {
+                return;
+            };
+            ray = Ray::off_surface(next.0, next.1);
+        }
+    }
+
+    /// Whether a photon at its `hits`-th hit after `bounces` mirror or glass
+    /// bounces is stored.
+    fn stores(&self, hits: u32, bounces: u32) -> bool {
+        match self.plan.term {
+            Term::Replace => true,
+            Term::Add { caustics: true } => bounces > 0,
+            Term::Add { caustics: false } => hits > 1,
+        }
+    }
+
+    /// The mirror direction of `dir` about `n`, blurred as the model's glossy
+    /// reflection is (`drefl=`).
+    fn mirror(&self, dir: DVec3, n: DVec3, side: DVec3, drefl: f64, rng: &mut Pcg32) -> DVec3 {
+        let mirror = reflect(dir, n);
+        if drefl <= 0.0 {
+            return mirror;
+        }
+        let (a1, a2) = perpendiculars(mirror);
+        match self.model.glossy {
+            Glossy::Exp => glossy_direction(mirror, side, a1, a2, drefl, rng),
+            Glossy::Disk => disk_direction(mirror, a1, a2, drefl, rng),
+            Glossy::Mirror => mirror,
+        }
+    }
+}
+
+/// Where a photon of `light` starts and its unit direction.
+fn emit(light: &Light, rng: &mut Pcg32) -> (DVec3, DVec3) {
+    match light.kind {
+        LightKind::Point { pos } => (pos, sphere_direction(rng)),
+        LightKind::Square { center, dx, dy } => {
+            let (a, b) = (
+                2.0 * rng.random::<f64>() - 1.0,
+                2.0 * rng.random::<f64>() - 1.0,
+            );
+            (center + dx * a + dy * b, sphere_direction(rng))
+        }
+        LightKind::Sphere { center, radius } => {
+            let n = sphere_direction(rng);
+            (center + n * radius, cosine_direction(n, rng))
+        }
+    }
+}

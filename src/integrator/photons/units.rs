@@ -1,0 +1,13 @@
+//! The photons' measure of power and the limits of their paths and gathers.
+
+/// The most hits a photon makes (`photon-mapping.md`, Tracing).
+pub(crate) const MAX_PHOTON_HITS: u32 = 10;
+
+/// Fewer photons than this in a gather give no estimate.
+pub(crate) const MIN_GATHERED: usize = 8;
+
+/// P(c): the mean of a colour's channels, the photons' measure of power.
+#[inline]
+pub(crate) fn power(c: glam::DVec3) -> f64 {
+    (c.x + c.y + c.z) / 3.0
+}

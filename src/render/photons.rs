@@ -1,0 +1,317 @@
+//! Photon-mapped renders (`photon-mapping.md`): PM's map is traced before
+//! the frame; PPM and SPPM add iterations of photon passes to the
+//! ray-traced direct light and compose the picture after each.
+
+use super::film::Region;
+use super::frame::Frame;
+use super::passes::{Watch, render_region};
+use crate::integrator::photons::{
+    Brdf, HitPoint, HitPointObserver, HitPointSeed, PhotonGrid, PhotonMap, PhotonMode, Plan,
+    gather, shoot, update_hit_point,
+};
+use crate::integrator::{Model, RayCounts, SceneAccel, ShadowHints};
+use crate::scene::Scene;
+use glam::DVec3;
+use rayon::prelude::*;
+
+/// Why the progressive passes gave no picture.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Unfinished {
+    /// Cancelled before the first iteration completed.
+    Cancelled,
+    /// More hit points than `max_hitpoints=`.
+    HitPoints {
+        /// Hit points found.
+        found: u64,
+        /// The key's value.
+        max: u64,
+    },
+}
+
+/// What a photon pass left out, for the render's report.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PhotonStats {
+    /// Photons emitted per pass.
+    pub emitted: u64,
+    /// Photons stored in the last pass (PM: the map).
+    pub stored: u64,
+    /// Photons thinned out of the last pass by `max_photons=`.
+    pub thinned: u64,
+    /// Iterations completed (PPM and SPPM).
+    pub iterations: u64,
+    /// Hit points (PPM).
+    pub hit_points: u64,
+}
+
+/// Traces PM's photon map.
+pub(crate) fn photon_map(
+    scene: &Scene,
+    accel: &SceneAccel,
+    model: &Model,
+    plan: &Plan,
+    seed: u64,
+) -> (PhotonMap, PhotonStats) {
+    let pass = shoot(scene, accel, model, plan, seed, 0);
+    let stats = PhotonStats {
+        emitted: pass.emitted,
+        stored: pass.photons.len() as u64,
+        thinned: pass.thinned,
+        ..PhotonStats::default()
+    };
+    (
+        PhotonMap::new(pass.photons, plan.k, plan.radius, plan.filter),
+        stats,
+    )
+}
+
+/// Everything the progressive passes read.
+pub(crate) struct Progressive<'a> {
+    /// The frame of the direct light (no photon map in it).
+    pub frame: &'a Frame<'a>,
+    pub scene: &'a Scene,
+    pub accel: &'a SceneAccel,
+    pub plan: &'a Plan,
+    pub seed: u64,
+    /// Call `each(i, pixels)` after iteration i when i is a multiple of this.
+    pub checkpoint: u64,
+}
+
+/// The pixels of `region` after PPM's or SPPM's iterations, the rays the
+/// eye passes traced and the figures; after a cancel, those of the last
+/// complete iteration (an error if none completed). `each(i, pixels)` is
+/// given every checkpoint's picture.
+pub(crate) fn progressive(
+    p: &Progressive<'_>,
+    region: Region,
+    spp: Option<u32>,
+    watch: &Watch,
+    each: &mut dyn FnMut(u64, &[[f32; 3]]),
+) -> Result<(Vec<[f32; 3]>, RayCounts, PhotonStats), Unfinished> {
+    let model = *p.frame.integrator.model();
+    let plan = p.plan;
+    let total = plan.iterations;
+    let pixels = region.area() as usize;
+    let mut stats = PhotonStats::default();
+    let mut rays = RayCounts::default();
+    // PPM: the direct light once, and its hit points (the pixels' centres).
+    let (direct, mut points) = if plan.mode == PhotonMode::Ppm {
+        let quiet = Watch {
+            progress: &|_, _| {},
+            cancel: watch.cancel,
+        };
+        let done =
+            render_region(p.frame, region, spp, false, &quiet).ok_or(Unfinished::Cancelled)?;
+        rays.add(&done.rays);
+        let (seeds, r) = eye_pass(p.frame, region, |x, y| p.frame.centre_sample(x, y));
+        rays.add(&r);
+        let points = hit_points(p.scene, &model, plan, seeds.hits)?;
+        let direct: Vec<DVec3> = done
+            .pixels
+            .iter()
+            .map(|c| DVec3::from(glam::Vec3::from(*c)))
+            .collect();
+        (direct, points)
+    } else {
+        // SPPM: one running estimate a pixel, its point fresh each iteration.
+        let points = (0..pixels as u32)
+            .map(|pixel| HitPoint {
+                pixel,
+                point: DVec3::ZERO,
+                side: DVec3::Z,
+                brdf: Brdf {
+                    diff: 0.0,
+                    spec: 0.0,
+                    mirror: DVec3::Z,
+                },
+                weight: DVec3::ONE,
+                r2: plan.radius * plan.radius,
+                n: 0.0,
+                m: 0,
+                tau: DVec3::ZERO,
+            })
+            .collect();
+        (vec![DVec3::ZERO; pixels], points)
+    };
+    stats.hit_points = points.len() as u64;
+    if plan.mode == PhotonMode::Ppm {
+        // R₀²: the K-nearest distance² in a preliminary map, at most R².
+        let (map, _) = photon_map(p.scene, p.accel, &model, plan, p.seed ^ 0x7072_656c);
+        points.par_iter_mut().for_each(|h| {
+            h.r2 = map
+                .nearest(h.point, h.side)
+                .1
+                .min(plan.radius * plan.radius);
+        });
+    }
+    let mut direct_sum = vec![DVec3::ZERO; pixels];
+    let mut last: Option<Vec<[f32; 3]>> = None;
+    for i in 1..=total {
+        if watch.cancelled() {
+            break;
+        }
+        let visible = if plan.mode == PhotonMode::Sppm {
+            let (seeds, r) = eye_pass(p.frame, region, |x, y| {
+                p.frame.jittered(x, y, i as u32, (1, 1))
+            });
+            rays.add(&r);
+            let mut by_pixel: Vec<Vec<HitPoint>> = vec![Vec::new(); pixels];
+            for h in hit_points(p.scene, &model, plan, seeds.hits)? {
+                by_pixel[h.pixel as usize].push(h);
+            }
+            direct_sum
+                .iter_mut()
+                .zip(&seeds.colors)
+                .for_each(|(s, c)| *s += *c);
+            Some(by_pixel)
+        } else {
+            None
+        };
+        let pass = shoot(p.scene, p.accel, &model, plan, p.seed, i);
+        if watch.cancelled() {
+            break;
+        }
+        (stats.emitted, stats.stored, stats.thinned) =
+            (pass.emitted, pass.photons.len() as u64, pass.thinned);
+        let cell = points.iter().map(|h| h.r2).fold(0.0, f64::max).sqrt();
+        let grid = PhotonGrid::new(&pass.photons, cell);
+        let alpha = plan.reduction;
+        match &visible {
+            None => points.par_iter_mut().for_each(|h| {
+                h.gather(&grid);
+                update_hit_point(h, alpha);
+            }),
+            Some(by_pixel) => points.par_iter_mut().for_each(|h| {
+                for v in &by_pixel[h.pixel as usize] {
+                    let (m, tau) = gather(&grid, v.point, v.side, &v.brdf, h.r2);
+                    h.m += m;
+                    h.tau += v.weight * tau;
+                }
+                update_hit_point(h, alpha);
+            }),
+        }
+        stats.iterations = i;
+        (watch.progress)(i, total);
+        if i % p.checkpoint.max(1) == 0 || i == total {
+            let picture = compose(&direct, &direct_sum, &points, i, plan.mode);
+            each(i, &picture);
+            last = Some(picture);
+        } else {
+            last = None;
+        }
+    }
+    let picture = match last {
+        Some(picture) => picture,
+        None if stats.iterations > 0 => {
+            compose(&direct, &direct_sum, &points, stats.iterations, plan.mode)
+        }
+        None => return Err(Unfinished::Cancelled),
+    };
+    Ok((picture, rays, stats))
+}
+
+/// The picture after `passes` passes: clamp(direct + Σ the pixel's hit
+/// points' estimates); SPPM's direct light is the mean of its iterations'.
+fn compose(
+    direct: &[DVec3],
+    direct_sum: &[DVec3],
+    points: &[HitPoint],
+    passes: u64,
+    mode: PhotonMode,
+) -> Vec<[f32; 3]> {
+    let mut sum: Vec<DVec3> = if mode == PhotonMode::Sppm {
+        direct_sum.iter().map(|s| *s / passes as f64).collect()
+    } else {
+        direct.to_vec()
+    };
+    for h in points {
+        sum[h.pixel as usize] += h.radiance(passes);
+    }
+    sum.iter()
+        .map(|c| c.min(DVec3::ONE).as_vec3().to_array())
+        .collect()
+}
+
+/// The diffuse hits of one camera sample per pixel of `region`, tagged
+/// with the pixel, and each sample's colour.
+struct EyePass {
+    hits: Vec<(u32, HitPointSeed)>,
+    colors: Vec<DVec3>,
+}
+
+/// Traces `sample(x, y)` for each pixel of `region`, keeping its hits.
+fn eye_pass(
+    frame: &Frame<'_>,
+    region: Region,
+    sample: impl Fn(u32, u32) -> (crate::geometry::Ray, crate::integrator::PathState) + Sync,
+) -> (EyePass, RayCounts) {
+    let rows: Vec<(EyePass, RayCounts)> = (region.y..region.y + region.height)
+        .into_par_iter()
+        .map(|y| {
+            let mut hints = ShadowHints::default();
+            let mut row = EyePass {
+                hits: Vec::new(),
+                colors: Vec::with_capacity(region.width as usize),
+            };
+            let mut rays = RayCounts::default();
+            for x in region.x..region.x + region.width {
+                let pixel = (y - region.y) * region.width + (x - region.x);
+                frame.packet::<HitPointObserver>(
+                    1,
+                    |_| sample(x, y),
+                    |_, c, obs, r| {
+                        row.hits.extend(obs.seeds.drain(..).map(|s| (pixel, s)));
+                        row.colors.push(c);
+                        rays.add(r);
+                    },
+                    &mut hints,
+                );
+            }
+            (row, rays)
+        })
+        .collect();
+    let mut pass = EyePass {
+        hits: Vec::new(),
+        colors: Vec::with_capacity(region.area() as usize),
+    };
+    let mut rays = RayCounts::default();
+    for (row, r) in rows {
+        pass.hits.extend(row.hits);
+        pass.colors.extend(row.colors);
+        rays.add(&r);
+    }
+    (pass, rays)
+}
+
+/// The hit points of the eye pass's diffuse hits; more than
+/// `max_hitpoints=` is an error naming the key.
+fn hit_points(
+    scene: &Scene,
+    model: &Model,
+    plan: &Plan,
+    seeds: Vec<(u32, HitPointSeed)>,
+) -> Result<Vec<HitPoint>, Unfinished> {
+    if seeds.len() as u64 > plan.max_hitpoints {
+        return Err(Unfinished::HitPoints {
+            found: seeds.len() as u64,
+            max: plan.max_hitpoints,
+        });
+    }
+    Ok(seeds
+        .into_iter()
+        .map(|(pixel, s)| HitPoint {
+            pixel,
+            point: s.point,
+            side: s.side,
+            brdf: Brdf {
+                diff: s.material.diff,
+                spec: if plan.specular { s.material.spec } else { 0.0 },
+                mirror: s.mirror,
+            },
+            weight: s.throughput * model.albedo(&s.material, scene.textures(), s.uv),
+            r2: plan.radius * plan.radius,
+            n: 0.0,
+            m: 0,
+            tau: DVec3::ZERO,
+        })
+        .collect())
+}

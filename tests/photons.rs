@@ -1,0 +1,121 @@
+//! Photon-mapped renders through the library: the same bytes whatever the
+//! threads (PM, PPM, SPPM), the hit-point cap as an error naming its key,
+//! checkpoints every N iterations, a cancel keeping the last complete
+//! iteration, and the photon term brightening what the direct light leaves dark.
+
+use glint::{Control, PhotonMode, PhotonOptions, RenderError, RenderOptions, Renderer, Scene};
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// A glass ball over a floor under a point light, in the variant dialect v.
+const GLASS: &str = "camera\n O= 0 -6 2\n N= 0 1 -0.2\n image_W= 40\n image_H= 30\n\
+    sample_photons= 20\n sample_dist= 0.3\n algorithm= RT\nend\n\
+    light point\n O= 0 0 5\n color= 20 20 20\nend\n\
+    primitive plane\n N= 0 0 1\n R= 0\n color= 0.8 0.8 0.8\n diff= 1\nend\n\
+    primitive plane\n N= 0 -1 0\n R= -3\n color= 0.8 0.3 0.3\n diff= 1\nend\n\
+    primitive sphere\n O= 0 0 1\n R= 1\n color= 1 1 1\n refr= 1\n rindex= 1.5\nend\n";
+
+fn renderer(text: &str) -> Renderer {
+    Renderer::new(Scene::parse(text, ".").unwrap_or_else(|e| panic!("parses:\n{e}")))
+}
+
+fn options(mode: PhotonMode, threads: usize) -> RenderOptions {
+    RenderOptions {
+        threads: Some(threads),
+        seed: 3,
+        photons: PhotonOptions {
+            mode: Some(mode),
+            iterations: Some(3),
+            emit: Some(20_000),
+            ..PhotonOptions::default()
+        },
+        ..RenderOptions::default()
+    }
+}
+
+fn bytes(r: &Renderer, o: &RenderOptions) -> Vec<u8> {
+    r.render(o).expect("renders").image().to_rgb8()
+}
+
+#[test]
+fn same_bytes_with_1_2_and_7_threads() {
+    let r = renderer(GLASS);
+    for mode in [PhotonMode::Pm, PhotonMode::Ppm, PhotonMode::Sppm] {
+        let one = bytes(&r, &options(mode, 1));
+        assert_eq!(one, bytes(&r, &options(mode, 2)), "{mode:?}, 2 threads");
+        assert_eq!(one, bytes(&r, &options(mode, 7)), "{mode:?}, 7 threads");
+    }
+}
+
+#[test]
+fn photons_brighten_the_caustic_and_the_indirect_light() {
+    let r = renderer(GLASS);
+    let off = bytes(&r, &options(PhotonMode::Off, 2));
+    let sum = |b: &[u8]| b.iter().map(|&v| v as u64).sum::<u64>();
+    for mode in [PhotonMode::Pm, PhotonMode::Ppm, PhotonMode::Sppm] {
+        let on = bytes(&r, &options(mode, 2));
+        // Photon light only adds (it is clamped with the direct light).
+        let darker = off.iter().zip(&on).filter(|(a, b)| b < a).count();
+        assert!(
+            sum(&on) > sum(&off) + sum(&off) / 50,
+            "{mode:?}: photons add light ({} → {})",
+            sum(&off),
+            sum(&on)
+        );
+        if mode == PhotonMode::Pm {
+            assert_eq!(darker, 0, "PM only adds to the direct light");
+        }
+    }
+}
+
+#[test]
+fn too_many_hit_points_is_an_error_naming_the_key() {
+    let text = GLASS.replace(" algorithm= RT\n", " algorithm= RT\n max_hitpoints= 100\n");
+    let r = renderer(&text);
+    match r.render(&options(PhotonMode::Ppm, 1)) {
+        Err(e @ RenderError::HitPoints { max: 100, .. }) => {
+            assert!(e.to_string().contains("max_hitpoints="), "{e}")
+        }
+        other => panic!("expected the hit-point cap, got {:?}", other.map(|_| ())),
+    }
+}
+
+#[test]
+fn checkpoints_every_n_iterations_and_a_cancel_keeps_the_last_complete_one() {
+    let r = renderer(GLASS);
+    let mut o = options(PhotonMode::Ppm, 2);
+    o.photons.iterations = Some(5);
+    let seen = Mutex::new(Vec::new());
+    let stop = AtomicBool::new(false);
+    let checkpoint = |i: u64, film: &glint::Film| {
+        seen.lock().unwrap().push((i, film.image().to_rgb8()));
+    };
+    let control = Control {
+        checkpoint: Some(&checkpoint),
+        checkpoint_every: 2,
+        ..Control::default()
+    };
+    let (film, stats) = r.render_with(&o, control).expect("renders");
+    let got: Vec<u64> = seen.lock().unwrap().iter().map(|(i, _)| *i).collect();
+    assert_eq!(got, vec![2, 4, 5]);
+    assert_eq!(stats.photons.iterations, 5);
+    assert_eq!(seen.lock().unwrap()[2].1, film.image().to_rgb8());
+
+    // Cancelled at the first checkpoint: the picture of iteration 2.
+    seen.lock().unwrap().clear();
+    let cancelling = |i: u64, film: &glint::Film| {
+        seen.lock().unwrap().push((i, film.image().to_rgb8()));
+        stop.store(true, Ordering::Relaxed);
+    };
+    let control = Control {
+        cancel: Some(&stop),
+        checkpoint: Some(&cancelling),
+        checkpoint_every: 2,
+        ..Control::default()
+    };
+    let (film, stats) = r
+        .render_with(&o, control)
+        .expect("the last complete iteration");
+    assert_eq!(stats.photons.iterations, 2);
+    assert_eq!(seen.lock().unwrap()[0].1, film.image().to_rgb8());
+}
