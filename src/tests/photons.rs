@@ -208,6 +208,40 @@ fn glass_ball_passes_the_flux_it_intercepts_and_focuses_on_the_axis() {
 }
 
 #[test]
+fn the_grid_finds_exactly_the_photons_a_brute_force_search_finds() {
+    use crate::integrator::photons::{Photon, PhotonGrid};
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_pcg::Pcg32::seed_from_u64(12);
+    let photons: Vec<Photon> = (0..5000)
+        .map(|_| Photon {
+            pos: DVec3::new(rng.random(), rng.random(), rng.random()) * 4.0 - 2.0,
+            dir: DVec3::Z,
+            power: DVec3::ONE,
+            bounces: 0,
+        })
+        .collect();
+    for cell in [0.05, 0.3, 1.0] {
+        let grid = PhotonGrid::new(&photons, cell);
+        for _ in 0..200 {
+            let x = DVec3::new(rng.random(), rng.random(), rng.random()) * 4.4 - 2.2;
+            let r: f64 = cell * rng.random::<f64>();
+            let r2 = r * r;
+            let mut found = Vec::new();
+            grid.for_each_within(x, r2, |p| found.push(p.pos.to_array()));
+            let mut brute: Vec<[f64; 3]> = photons
+                .iter()
+                .filter(|p| (p.pos - x).length_squared() <= r2)
+                .map(|p| p.pos.to_array())
+                .collect();
+            let key = |a: &[f64; 3], b: &[f64; 3]| a.partial_cmp(b).unwrap();
+            found.sort_by(key);
+            brute.sort_by(key);
+            assert_eq!(found, brute, "cell {cell}, radius {r} at {x:?}");
+        }
+    }
+}
+
+#[test]
 fn ppm_radius_flux_and_count_follow_the_recurrence() {
     // A scripted sequence of photon counts M and fluxes; with N₀ = 0 the
     // recurrence gives N after pass i as α·ΣM, and each pass shrinks R² and

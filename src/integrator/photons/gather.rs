@@ -77,16 +77,16 @@ impl<'a> PhotonGrid<'a> {
             self.cell_of(x.y + r),
             self.cell_of(x.z + r),
         ];
-        // At most 2 cells an axis (r ≤ cell): 8 buckets, some maybe equal.
-        let mut buckets = [0u32; 8];
+        // 2r ≤ 2 cells, so 3 cells an axis hold the ball (rounding aside).
+        let hi = [0, 1, 2].map(|k| hi[k].min(lo[k] + 2));
+        // At most 3 cells an axis (2r ≤ 2 cells): 27 buckets, some maybe equal.
+        let mut buckets = [0u32; 27];
         let mut n = 0;
         for cx in lo[0]..=hi[0] {
             for cy in lo[1]..=hi[1] {
                 for cz in lo[2]..=hi[2] {
-                    if n < buckets.len() {
-                        buckets[n] = self.bucket([cx, cy, cz]);
-                        n += 1;
-                    }
+                    buckets[n] = self.bucket([cx, cy, cz]);
+                    n += 1;
                 }
             }
         }

@@ -69,36 +69,43 @@ impl PhotonMap {
     }
 
     /// The K nearest photons within R of `x` that arrived on the side `side`
-    /// faces (d·side < 0), nearest first (ties by photon index), and r².
+    /// faces (d·side < 0), nearest first (ties by photon index), and r²:
+    /// the K-th one's distance², or R² when R holds fewer. Where photons
+    /// from behind crowd the front ones out of the nearest 4K, the front
+    /// ones among those 4K are kept and r² is the farthest of the 4K (every
+    /// photon that near was looked at, so the density stays exact).
     pub fn nearest(&self, x: DVec3, side: DVec3) -> (Vec<(f64, u32)>, f64) {
         let Some(tree) = &self.tree else {
             return (Vec::new(), self.r2);
         };
         let q = x.to_array();
-        // Photons from behind are dropped after the query: ask for more until
-        // K remain or the radius holds no more.
         let mut ask = self.k;
         loop {
             let n = NonZero::new(ask).unwrap_or(NonZero::<usize>::MIN);
-            let found: Vec<NearestNeighbour<f64, u64>> =
+            // The nearest `ask` within R (the search narrows as it fills).
+            let mut found: Vec<NearestNeighbour<f64, u64>> =
                 tree.nearest_n_within::<SquaredEuclidean>(&q, self.r2, n, true);
-            let complete = found.len() < ask;
+            found.sort_by(|a, b| a.distance.total_cmp(&b.distance).then(a.item.cmp(&b.item)));
+            let farthest = found.last().map_or(0.0, |f| f.distance);
+            // Every photon within R has been looked at.
+            let exhausted = found.len() < ask;
             let mut kept: Vec<(f64, u32)> = found
                 .iter()
                 .filter(|f| self.photons[f.item as usize].dir.dot(side) < 0.0)
                 .map(|f| (f.distance, f.item as u32))
                 .collect();
-            if kept.len() >= self.k || complete || ask >= self.photons.len() {
-                kept.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            if kept.len() >= self.k {
                 kept.truncate(self.k);
-                let r2 = if kept.len() == self.k {
-                    kept[self.k - 1].0.max(f64::MIN_POSITIVE)
-                } else {
-                    self.r2
-                };
+                let r2 = kept[self.k - 1].0.max(f64::MIN_POSITIVE);
                 return (kept, r2);
             }
-            ask = ask.saturating_mul(2);
+            if exhausted {
+                return (kept, self.r2);
+            }
+            if ask >= 4 * self.k {
+                return (kept, farthest.max(f64::MIN_POSITIVE));
+            }
+            ask *= 2;
         }
     }
 
