@@ -119,3 +119,30 @@ fn checkpoints_every_n_iterations_and_a_cancel_keeps_the_last_complete_one() {
     assert_eq!(stats.photons.iterations, 2);
     assert_eq!(seen.lock().unwrap()[0].1, film.image().to_rgb8());
 }
+
+#[test]
+fn sppm_direct_light_is_the_pixels_own_jittered_samples() {
+    // One photon a pass gathers nothing (fewer than 8), so SPPM's picture is
+    // the mean of its iterations' jittered samples of each pixel: what 64
+    // stratified samples a pixel give, but for the noise of 16 samples
+    // where a pixel's samples differ (silhouettes, the view through the ball).
+    let r = renderer(GLASS);
+    let mut o = options(PhotonMode::Sppm, 2);
+    o.photons.emit = Some(1);
+    o.photons.iterations = Some(16);
+    let sppm = bytes(&r, &o);
+    let mut aa = options(PhotonMode::Off, 2);
+    aa.spp = Some(64);
+    let rt = bytes(&r, &aa);
+    let diff: Vec<i32> = sppm
+        .iter()
+        .zip(&rt)
+        .map(|(&a, &b)| (a as i32 - b as i32).abs())
+        .collect();
+    let mean = diff.iter().sum::<i32>() as f64 / diff.len() as f64;
+    let close = diff.iter().filter(|&&d| d <= 2).count() as f64 / diff.len() as f64;
+    assert!(
+        mean < 1.5 && close > 0.9,
+        "mean |Δ| {mean}, share within 2: {close}"
+    );
+}

@@ -88,9 +88,27 @@ impl<'a> Frame<'a> {
     /// With a lens, the ray leaves a point of the lens drawn after the
     /// jitter (all through the pixel's centre when the frame is `centred`).
     pub fn jittered(&self, x: u32, y: u32, s: u32, (rows, cols): (u32, u32)) -> (Ray, PathState) {
+        let stratum = (s / cols, s % cols);
+        self.sample_in(x, y, self.state(x, y, s), stratum, (rows, cols))
+    }
+
+    /// One sample jittered over the whole of pixel (x, y) with random
+    /// stream `stream` (SPPM's sample of an iteration).
+    pub fn fresh(&self, x: u32, y: u32, stream: u32) -> (Ray, PathState) {
+        self.sample_in(x, y, self.state(x, y, stream), (0, 0), (1, 1))
+    }
+
+    /// The sample of stratum (r, c) of `rows` × `cols` in pixel (x, y),
+    /// drawing from `st`.
+    fn sample_in(
+        &self,
+        x: u32,
+        y: u32,
+        mut st: PathState,
+        (r, c): (u32, u32),
+        (rows, cols): (u32, u32),
+    ) -> (Ray, PathState) {
         use rand::Rng;
-        let (r, c) = (s / cols, s % cols);
-        let mut st = self.state(x, y, s);
         let (fx, fy) = if self.centred {
             (0.5, 0.5)
         } else {

@@ -150,9 +150,7 @@ pub(crate) fn progressive(
             break;
         }
         let visible = if plan.mode == PhotonMode::Sppm {
-            let (seeds, r) = eye_pass(p.frame, region, |x, y| {
-                p.frame.jittered(x, y, i as u32, (1, 1))
-            });
+            let (seeds, r) = eye_pass(p.frame, region, |x, y| p.frame.fresh(x, y, i as u32));
             rays.add(&r);
             let mut by_pixel: Vec<Vec<HitPoint>> = vec![Vec::new(); pixels];
             for h in hit_points(p.scene, &model, plan, seeds.hits)? {
