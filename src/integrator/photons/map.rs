@@ -4,7 +4,7 @@
 use super::plan::PhotonFilter;
 use super::trace::Photon;
 use super::units::MIN_GATHERED;
-use glam::DVec3;
+use glam::{DVec3, Vec3};
 use kiddo::{ImmutableKdTree, NearestNeighbour, SquaredEuclidean};
 use std::f64::consts::PI;
 use std::num::NonZero;
@@ -48,6 +48,8 @@ pub(crate) struct Gathered {
 /// One pass's photons, ready for K-nearest queries.
 pub(crate) struct PhotonMap {
     photons: Vec<Photon>,
+    /// The photons' directions, apart: what the side test reads.
+    dirs: Vec<Vec3>,
     tree: Option<ImmutableKdTree<f64, 3>>,
     k: usize,
     r2: f64,
@@ -59,8 +61,10 @@ impl PhotonMap {
     pub fn new(photons: Vec<Photon>, k: usize, radius: f64, filter: PhotonFilter) -> Self {
         let points: Vec<[f64; 3]> = photons.iter().map(|p| p.pos.to_array()).collect();
         let tree = (!points.is_empty()).then(|| ImmutableKdTree::new_from_slice(&points));
+        let dirs = photons.iter().map(|p| p.dir.as_vec3()).collect();
         PhotonMap {
             photons,
+            dirs,
             tree,
             k: k.max(1),
             r2: radius * radius,
@@ -79,6 +83,7 @@ impl PhotonMap {
             return (Vec::new(), self.r2);
         };
         let q = x.to_array();
+        let side_f32 = side.as_vec3();
         let mut ask = self.k;
         loop {
             let n = NonZero::new(ask).unwrap_or(NonZero::<usize>::MIN);
@@ -91,7 +96,7 @@ impl PhotonMap {
             let exhausted = found.len() < ask;
             let mut kept: Vec<(f64, u32)> = found
                 .iter()
-                .filter(|f| self.photons[f.item as usize].dir.dot(side) < 0.0)
+                .filter(|f| self.dirs[f.item as usize].dot(side_f32) < 0.0)
                 .map(|f| (f.distance, f.item as u32))
                 .collect();
             if kept.len() >= self.k {
