@@ -63,8 +63,9 @@ pub use probe::{
     MAX_RAY_ERRORS, ProbeHit, RayError, RaysError, parse_ray, read_rays, to_json, to_text,
 };
 pub use render::{
-    Aov, Control, Explanation, Film, MAX_EXPLAINED_SPP, MAX_THREADS, Plane, Region, RenderError,
-    RenderOptions, RenderStats, Renderer, Sampling, Stage, WorkEstimate, memory_needed,
+    Aov, Control, Explanation, Film, LIGHT_PASSES_MAX, MAX_EXPLAINED_SPP, MAX_THREADS, Plane,
+    Region, RenderError, RenderOptions, RenderStats, Renderer, Sampling, Stage, WorkEstimate,
+    memory_needed,
 };
 pub use scene::{Dialect, DialectChoice, Scene, SceneError};
 

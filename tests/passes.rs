@@ -462,3 +462,27 @@ fn cost_counts_the_tests_a_first_hit_needs() {
     assert!(bounded > 50, "{bounded}");
     let _ = r;
 }
+
+#[test]
+fn more_light_passes_than_one_render_takes_are_an_error() {
+    let r = Renderer::new(Scene::parse(LIT, ".").unwrap_or_else(|e| panic!("{e}")));
+    let asking = |n: u32| RenderOptions {
+        width: Some(8),
+        aovs: (0..n).map(Aov::Light).collect(),
+        ..RenderOptions::default()
+    };
+    let max = glint::LIGHT_PASSES_MAX as u32;
+    let f = r.render(&asking(max)).unwrap_or_else(|e| panic!("{e}"));
+    // Lights the scene lacks are black planes.
+    assert!(
+        f.plane(&format!("light:{}", max - 1))
+            .is_some_and(|p| p.data.iter().all(|&v| v == 0.0))
+    );
+    assert_eq!(
+        r.render(&asking(max + 1)).err(),
+        Some(glint::RenderError::LightPasses {
+            asked: max as usize + 1,
+            max: max as usize
+        })
+    );
+}

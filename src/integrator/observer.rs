@@ -1,5 +1,6 @@
 //! The path observer: what a renderer may watch along a camera sample's
-//! tree of rays (the anti-aliasing's hash now, a pixel's ray tree next).
+//! tree of rays (the anti-aliasing's hash, a pixel's ray tree, the shading
+//! passes' tally; two at once as a pair).
 //! Shading is generic over it, so an observer that watches nothing costs
 //! nothing.
 
@@ -164,8 +165,75 @@ impl<T: PathObserver> PathObserver for &mut T {
     }
 }
 
+/// Two observers watch the same rays, the first told first.
+impl<A: PathObserver, B: PathObserver> PathObserver for (A, B) {
+    type Fan<'s>
+        = (A::Fan<'s>, B::Fan<'s>)
+    where
+        Self: 's;
+
+    #[inline(always)]
+    fn fan(&mut self) -> Self::Fan<'_> {
+        (self.0.fan(), self.1.fan())
+    }
+
+    #[inline(always)]
+    fn hit(&mut self, origin: Origin) {
+        self.0.hit(origin);
+        self.1.hit(origin);
+    }
+
+    #[inline(always)]
+    fn point_light(&mut self, light: u32) {
+        self.0.point_light(light);
+        self.1.point_light(light);
+    }
+
+    #[inline(always)]
+    fn ray(&mut self, kind: RayKind, depth: u32, ray: &Ray) {
+        self.0.ray(kind, depth, ray);
+        self.1.ray(kind, depth, ray);
+    }
+
+    #[inline(always)]
+    fn surface(&mut self, seen: &SurfaceSeen<'_>) {
+        self.0.surface(seen);
+        self.1.surface(seen);
+    }
+
+    #[inline(always)]
+    fn emitter(&mut self, light: u32, shape: &Shape, ray: &Ray, hit: &Hit) {
+        self.0.emitter(light, shape, ray, hit);
+        self.1.emitter(light, shape, ray, hit);
+    }
+
+    #[inline(always)]
+    fn light(&mut self, seen: &LightSeen) {
+        self.0.light(seen);
+        self.1.light(seen);
+    }
+
+    #[inline(always)]
+    fn cut(&mut self, kind: RayKind) {
+        self.0.cut(kind);
+        self.1.cut(kind);
+    }
+
+    #[inline(always)]
+    fn shaded(&mut self, sum: DVec3) {
+        self.0.shaded(sum);
+        self.1.shaded(sum);
+    }
+
+    #[inline(always)]
+    fn done(&mut self, color: DVec3, weight: DVec3) {
+        self.0.done(color, weight);
+        self.1.done(color, weight);
+    }
+}
+
 /// Watches nothing.
-#[derive(Default)]
+#[derive(Clone, Copy, Default)]
 pub(crate) struct NoObserver;
 
 impl PathObserver for NoObserver {

@@ -102,7 +102,7 @@ pub struct RayNode {
 }
 
 /// Records the trees of the camera rays it watches.
-#[derive(Default)]
+#[derive(Clone, Default)]
 pub(crate) struct RayTree {
     open: Vec<RayNode>,
     done: Vec<RayNode>,

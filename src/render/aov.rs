@@ -1,8 +1,8 @@
 //! Passes (AOVs): what the centre ray of each pixel first hits, stored as
 //! named planes of the film beside the picture. One nearest-hit query per
 //! pixel, no shading: a small cost beside the render. (The passes of the
-//! camera hit's shading, `light:N`, `shade`, `why`, `clamp`, are traced in
-//! `shading_passes`.)
+//! camera hit's shading, `light:N`, `shade`, `why`, `clamp`, are tallied
+//! by pass 1 itself: `shading_passes`.)
 
 use super::film::Region;
 use super::frame::Frame;
@@ -202,11 +202,18 @@ pub(crate) fn first_hit_planes(
                 }
             }
         });
+    split_planes(&all, aovs)
+}
+
+/// The planes of `aovs` out of `all`, each pixel's values of every pass in turn.
+pub(crate) fn split_planes(all: &[f32], aovs: &[Aov]) -> Vec<(Aov, Vec<f32>)> {
+    let per_pixel: usize = aovs.iter().map(|a| a.channels()).sum();
+    let pixels = all.len() / per_pixel.max(1);
     let mut planes: Vec<(Aov, Vec<f32>)> = aovs
         .iter()
-        .map(|&a| (a, Vec::with_capacity(region.area() as usize * a.channels())))
+        .map(|&a| (a, Vec::with_capacity(pixels * a.channels())))
         .collect();
-    for px in all.chunks(per_pixel) {
+    for px in all.chunks(per_pixel.max(1)) {
         let mut at = 0;
         for (aov, data) in &mut planes {
             data.extend_from_slice(&px[at..at + aov.channels()]);

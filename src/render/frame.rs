@@ -133,12 +133,13 @@ impl<'a> Frame<'a> {
     }
 
     /// Traces `n` (at most [`PACKET_MAX`]) camera rays as one packet: ray k
-    /// and its random stream are `sample_of(k)`, watched by a fresh `O`.
-    /// Calls `each(k, colour, observer, rays)` in order.
-    pub fn packet<O: PathObserver + Default>(
+    /// and its random stream are `sample_of(k)`, watched by a copy of
+    /// `fresh`. Calls `each(k, colour, observer, rays)` in order.
+    pub fn packet<O: PathObserver + Clone>(
         &self,
         n: usize,
         sample_of: impl Fn(usize) -> (Ray, PathState),
+        fresh: &O,
         mut each: impl FnMut(usize, DVec3, &mut O, &RayCounts),
         hints: &mut ShadowHints,
     ) {
@@ -152,7 +153,7 @@ impl<'a> Frame<'a> {
         for (k, (ray, st)) in camera.iter_mut().zip(&mut states).take(n).enumerate() {
             (*ray, *st) = sample_of(k);
         }
-        let mut observers: [O; PACKET_MAX] = std::array::from_fn(|_| O::default());
+        let mut observers: [O; PACKET_MAX] = std::array::from_fn(|_| fresh.clone());
         let mut colors = [DVec3::ZERO; PACKET_MAX];
         self.integrator.trace_camera_packet(
             &camera[..n],
@@ -179,9 +180,10 @@ impl<'a> Frame<'a> {
     ) -> DVec3 {
         // Summed in grid order, as one ray after another would be.
         let mut sum = DVec3::ZERO;
-        self.packet::<NoObserver>(
+        self.packet(
             self.refine_count(),
             |k| self.grid_sample(x, y, k),
+            &NoObserver,
             |_, c, _, r| {
                 sum += c;
                 rays.add(r);
@@ -192,13 +194,15 @@ impl<'a> Frame<'a> {
     }
 
     /// Pass 1 over the tile of columns `xs` and rows `ys` when a pixel takes
-    /// one ray through its centre, traced as one packet, each watched by an
-    /// `O`. Calls `put(x, y, colour, observer, rays traced)` for each pixel.
-    pub fn centre_tile<O: PathObserver + Default>(
+    /// one ray through its centre, traced as one packet, each watched by a
+    /// copy of `fresh`. Calls `put(x, y, colour, observer, rays traced)` for
+    /// each pixel.
+    pub fn centre_tile<O: PathObserver + Clone>(
         &self,
         (xs, ys): Tile,
         rays: &mut RayCounts,
         hints: &mut ShadowHints,
+        fresh: &O,
         mut put: impl FnMut(u32, u32, DVec3, &O, u64),
     ) {
         let w = xs.len();
@@ -209,6 +213,7 @@ impl<'a> Frame<'a> {
                 let (x, y) = pixel(k);
                 self.centre_sample(x, y)
             },
+            fresh,
             |k, c, o, r| {
                 let (x, y) = pixel(k);
                 rays.add(r);
@@ -245,12 +250,13 @@ impl<'a> Frame<'a> {
         let mut start = 0;
         while start < total {
             let len = (total - start).min(PACKET_MAX as u64);
-            self.packet::<NoObserver>(
+            self.packet(
                 len as usize,
                 |k| {
                     let (x, y, s) = at(start + k as u64);
                     self.jittered(x, y, s, strata)
                 },
+                &NoObserver,
                 |k, c, _, r| {
                     let (x, y, s) = at(start + k as u64);
                     // Summed in sample order, as ray after ray would be.
@@ -333,6 +339,7 @@ mod tests {
                 (xs, ys),
                 &mut rays,
                 &mut hints,
+                &AaHash::default(),
                 |x, y, c, hash: &AaHash, _| {
                     let mut st = frame.state(x, y, 0);
                     let mut want_hash = AaHash::default();

@@ -18,6 +18,7 @@ pub use aov::Aov;
 pub use explain::{Explanation, Sampling};
 pub use film::{Film, Plane, Region};
 pub use schedule::MAX_THREADS;
+pub use shading_passes::LIGHT_PASSES_MAX;
 pub(crate) use verdict::{Cause, place};
 
 use crate::integrator::{Integrator, RayCounts, SceneAccel};
@@ -25,6 +26,7 @@ use crate::output::Image;
 use crate::scene::{Camera, LightKind, MAX_IMAGE_SIDE, Scene};
 use frame::Frame;
 use passes::{Watch, render_region};
+use shading_passes::ShadingPasses;
 use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
@@ -120,6 +122,14 @@ pub enum RenderError {
         value: u32,
         /// The most `explain` takes.
         max: u32,
+    },
+    /// More `light:N` passes than one render takes.
+    #[error("{asked} light:N passes asked for: one render takes at most {max}")]
+    LightPasses {
+        /// The `light:N` passes asked for.
+        asked: usize,
+        /// The most one render takes.
+        max: usize,
     },
     /// The cancel flag was set.
     #[error("the render was cancelled")]
@@ -293,8 +303,15 @@ impl Renderer {
             cancel: control.cancel,
         };
         let count = options.aovs.contains(&Aov::Rays);
+        let shading = ShadingPasses::of(&options.aovs, &self.scene).map_err(|asked| {
+            RenderError::LightPasses {
+                asked,
+                max: LIGHT_PASSES_MAX,
+            }
+        })?;
         let done = schedule::with_threads(options.threads, || {
-            render_region(&frame, region, options.spp, count, &watch)
+            let keep = (count, shading.as_ref());
+            render_region(&frame, region, options.spp, keep, &watch)
         });
         let done = done.ok_or(RenderError::Cancelled)?;
         let (rays, refined) = (done.rays, done.refined);
@@ -313,10 +330,8 @@ impl Renderer {
                 aov::first_hit_planes(&frame, &self.scene, &self.accel, region, &first_hit)
             })
         };
-        if options.aovs.iter().any(|a| a.shaded()) {
-            planes.extend(schedule::with_threads(options.threads, || {
-                shading_passes::shading_planes(&frame, &self.scene, region, &options.aovs)
-            }));
+        if let (Some(s), Some(values)) = (&shading, &done.shading) {
+            planes.extend(aov::split_planes(values, s.aovs()));
         }
         if let Some(counts) = done.rays_per_pixel {
             planes.push((Aov::Rays, counts));

@@ -6,8 +6,9 @@
 //! see the neighbours they see in a full render: the same bytes.
 
 use super::film::Region;
-use super::frame::{BAND, Frame};
-use crate::integrator::{AaHash, NoObserver, RayCounts, ShadowHints};
+use super::frame::{BAND, Frame, Tile};
+use super::shading_passes::{LightTally, ShadingPasses};
+use crate::integrator::{AaHash, NoObserver, PathObserver, RayCounts, ShadowHints};
 use glam::DVec3;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -36,15 +37,71 @@ pub(crate) struct Rendered {
     pub refined: u64,
     /// Rays traced for each of the region's pixels, when asked for.
     pub rays_per_pixel: Option<Vec<f32>>,
+    /// The shading passes' values, each pixel's in turn, when asked for.
+    pub shading: Option<Vec<f32>>,
+}
+
+/// What pass 1 keeps of a centre sample's observer: the anti-aliasing's
+/// hash and the shading passes' tally, where it watches them.
+trait Kept: PathObserver + Clone {
+    /// The folded hash (0 where not watched).
+    fn hash(&self) -> u32 {
+        0
+    }
+
+    /// The tally, where watched.
+    fn tally(&self) -> Option<&LightTally> {
+        None
+    }
+}
+
+impl Kept for NoObserver {}
+
+impl Kept for AaHash {
+    fn hash(&self) -> u32 {
+        self.folded()
+    }
+}
+
+impl Kept for LightTally {
+    fn tally(&self) -> Option<&LightTally> {
+        Some(self)
+    }
+}
+
+impl Kept for (AaHash, LightTally) {
+    fn hash(&self) -> u32 {
+        self.0.folded()
+    }
+
+    fn tally(&self) -> Option<&LightTally> {
+        Some(&self.1)
+    }
+}
+
+/// Pass 1 over `tile`, each centre sample watched by a copy of `fresh`:
+/// calls `put(x, y, colour, hash, tally, rays traced)` for each pixel.
+fn centre<O: Kept>(
+    frame: &Frame,
+    tile: Tile,
+    rays: &mut RayCounts,
+    hints: &mut ShadowHints,
+    fresh: &O,
+    put: &mut impl FnMut(u32, u32, DVec3, u32, Option<&LightTally>, u64),
+) {
+    frame.centre_tile(tile, rays, hints, fresh, |x, y, c, o: &O, r| {
+        put(x, y, c, o.hash(), o.tally(), r)
+    });
 }
 
 /// The colours of `region`'s pixels, the rays traced (per pixel too when
-/// `count`) and the pixels anti-aliased; `None` when cancelled.
+/// `count`), the pixels anti-aliased and the values of the `shading`
+/// passes; `None` when cancelled.
 pub(crate) fn render_region(
     frame: &Frame,
     region: Region,
     spp: Option<u32>,
-    count: bool,
+    (count, shading): (bool, Option<&ShadingPasses>),
     watch: &Watch,
 ) -> Option<Rendered> {
     let (w, h) = (frame.width, frame.height);
@@ -73,10 +130,13 @@ pub(crate) fn render_region(
     let mut pixels = vec![[0f32; 3]; aw * area.height as usize];
     let mut hashes = vec![0u32; if adaptive { pixels.len() } else { 0 }];
     let mut counts = vec![0u32; if count { pixels.len() } else { 0 }];
+    let per_shaded = shading.map_or(0, ShadingPasses::channels);
+    let mut shaded = vec![0f32; pixels.len() * per_shaded];
     let band_rays = |band: usize,
                      band_pixels: &mut [[f32; 3]],
                      band_hashes: &mut [u32],
-                     band_counts: &mut [u32]| {
+                     band_counts: &mut [u32],
+                     band_shaded: &mut [f32]| {
         let mut rays = RayCounts::default();
         if watch.cancelled() {
             return rays;
@@ -98,6 +158,11 @@ pub(crate) fn render_region(
                     *n = r.min(u32::MAX as u64) as u32;
                 }
             };
+            let mut fill = |i: usize, t: &LightTally| {
+                if let Some(s) = shading {
+                    s.fill(&mut band_shaded[i * per_shaded..][..per_shaded], t);
+                }
+            };
             match spp {
                 Some(n) if n > 1 => {
                     let put = |x, y, c, r| {
@@ -105,40 +170,57 @@ pub(crate) fn render_region(
                         band_pixels[i] = to_f32(c);
                         tally(i, r);
                     };
-                    frame.stratified_tile(tile, n, &mut rays, &mut hints, put);
-                }
-                _ if !adaptive => {
-                    let put = |x, y, c, _: &NoObserver, r| {
-                        let i = index(x, y);
-                        band_pixels[i] = to_f32(c);
-                        tally(i, r);
-                    };
-                    frame.centre_tile(tile, &mut rays, &mut hints, put);
+                    frame.stratified_tile(tile.clone(), n, &mut rays, &mut hints, put);
+                    // No centre sample was traced: the tally traces it apart.
+                    if let Some(s) = shading {
+                        let put = |x, y, _, t: &LightTally, _| fill(index(x, y), t);
+                        let mut apart = RayCounts::default();
+                        frame.centre_tile(tile, &mut apart, &mut hints, s.tally(), put);
+                    }
                 }
                 _ => {
-                    let put = |x, y, c, hash: &AaHash, r| {
+                    let mut put = |x, y, c, hash, t: Option<&LightTally>, r| {
                         let i = index(x, y);
-                        (band_pixels[i], band_hashes[i]) = (to_f32(c), hash.folded());
+                        band_pixels[i] = to_f32(c);
+                        if let Some(h) = band_hashes.get_mut(i) {
+                            *h = hash;
+                        }
                         tally(i, r);
+                        if let Some(t) = t {
+                            fill(i, t);
+                        }
                     };
-                    frame.centre_tile(tile, &mut rays, &mut hints, put);
+                    let (rays, hints) = (&mut rays, &mut hints);
+                    match (adaptive, shading) {
+                        (false, None) => centre(frame, tile, rays, hints, &NoObserver, &mut put),
+                        (true, None) => {
+                            centre(frame, tile, rays, hints, &AaHash::default(), &mut put)
+                        }
+                        (false, Some(s)) => centre(frame, tile, rays, hints, s.tally(), &mut put),
+                        (true, Some(s)) => {
+                            let both = (AaHash::default(), *s.tally());
+                            centre(frame, tile, rays, hints, &both, &mut put)
+                        }
+                    }
                 }
             }
         }
         report(band_pixels.len() as u64 * per_pixel);
         rays
     };
-    // Each band's slice of the hashes and counts (empty when not kept).
+    // Each band's slice of the hashes, counts and shading values (empty when not kept).
     let bands = pixels.len().div_ceil(aw * BAND);
-    let (hash_bands, count_bands) = (
+    let (hash_bands, count_bands, shaded_bands) = (
         band_slices(&mut hashes, aw * BAND, bands),
         band_slices(&mut counts, aw * BAND, bands),
+        band_slices(&mut shaded, aw * BAND * per_shaded, bands),
     );
     let band_rays: Vec<RayCounts> = pixels
         .par_chunks_mut(aw * BAND)
         .zip(hash_bands.into_par_iter().zip(count_bands))
+        .zip(shaded_bands)
         .enumerate()
-        .map(|(band, (p, (hs, cs)))| band_rays(band, p, hs, cs))
+        .map(|(band, ((p, (hs, cs)), ss))| band_rays(band, p, hs, cs, ss))
         .collect();
     let mut rays = RayCounts::default();
     band_rays.iter().for_each(|r| rays.add(r));
@@ -191,27 +273,20 @@ pub(crate) fn render_region(
     }
     let rays_per_pixel = count.then(|| {
         let all: Vec<f32> = counts.iter().map(|&n| n as f32).collect();
-        if area == region {
-            all
-        } else {
-            crop(&all, area, region)
-        }
+        crop(all, 1, area, region)
     });
-    let pixels = if area == region {
-        pixels
-    } else {
-        crop(&pixels, area, region)
-    };
+    let shading = shading.map(|_| crop(shaded, per_shaded, area, region));
     Some(Rendered {
-        pixels,
+        pixels: crop(pixels, 1, area, region),
         rays,
         refined,
         rays_per_pixel,
+        shading,
     })
 }
 
 /// `v` cut into `bands` chunks of `len`, or `bands` empty slices when `v` is empty.
-fn band_slices(v: &mut [u32], len: usize, bands: usize) -> Vec<&mut [u32]> {
+fn band_slices<T>(v: &mut [T], len: usize, bands: usize) -> Vec<&mut [T]> {
     if v.is_empty() {
         (0..bands).map(|_| &mut [][..]).collect()
     } else {
@@ -229,14 +304,20 @@ pub(crate) fn differs(hash: impl Fn(u32, u32) -> u32, x: u32, y: u32, w: u32, h:
         || (y + 1 < h && hash(x, y + 1) != hh)
 }
 
-/// The pixels of `region` out of those of `area` (which holds it).
-fn crop<T: Copy>(pixels: &[T], area: Region, region: Region) -> Vec<T> {
+/// The pixels of `region` out of those of `area` (which holds it), `per`
+/// values a pixel.
+fn crop<T: Copy>(pixels: Vec<T>, per: usize, area: Region, region: Region) -> Vec<T> {
+    if area == region {
+        return pixels;
+    }
     let aw = area.width as usize;
     let (dx, dy) = ((region.x - area.x) as usize, (region.y - area.y) as usize);
     (0..region.height as usize)
         .flat_map(|r| {
-            let start = (dy + r) * aw + dx;
-            pixels[start..start + region.width as usize].iter().copied()
+            let start = ((dy + r) * aw + dx) * per;
+            pixels[start..start + region.width as usize * per]
+                .iter()
+                .copied()
         })
         .collect()
 }
