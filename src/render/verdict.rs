@@ -23,29 +23,42 @@ pub(crate) fn named(hit: &HitInfo, file: Option<&str>) -> String {
 }
 
 /// The verdict for a pixel whose samples are `samples` and bytes `bytes`.
+/// Samples that see the same thing for the same reason say one thing;
+/// samples that disagree (an edge) are named with their counts, and the
+/// most common one is explained.
 pub(crate) fn verdict(samples: &[RayNode], bytes: [u8; 3], file: Option<&str>) -> String {
-    let Some(root) = samples.first() else {
+    let mut groups = sides(samples, bytes, file);
+    // The most samples first; of equal counts, the one seen first.
+    groups.sort_by_key(|g| std::cmp::Reverse(g.count));
+    let Some(main) = groups.first() else {
         return "no sample was traced".to_string();
     };
-    let mut said = vec![cause(root, bytes, file).1];
-    if samples.len() > 1 {
-        let misses = samples.iter().filter(|s| s.hit.is_none()).count();
-        let mut firsts: Vec<Option<u32>> = samples
+    let mut said = Vec::new();
+    if let [_, second, ..] = &groups[..] {
+        let n = samples.len();
+        let labels: Vec<String> = groups
             .iter()
-            .map(|s| s.hit.as_ref().and_then(|h| h.primitive))
+            .map(|g| match g.kind {
+                Cause::Background => format!("the background ({} of {n} samples)", g.count),
+                _ => format!("{} ({}: {} of {n} samples)", g.what, g.kind.name(), g.count),
+            })
             .collect();
-        firsts.sort_unstable();
-        firsts.dedup();
-        if firsts.len() > 1 || misses > 0 && misses < samples.len() {
-            said.push(format!(
-                "The pixel's {} samples see different things (an edge), and their mean is what is written.",
-                samples.len()
-            ));
-        }
+        let most = if main.count > second.count {
+            "Most samples"
+        } else {
+            "The first of the largest sides"
+        };
+        said.push(format!(
+            "edge between {}: the pixel is their mean. {most}: {}",
+            labels.join(" and "),
+            main.said
+        ));
+    } else {
+        said.push(main.said.clone());
     }
     let mut tir = None;
     let mut cut = false;
-    walk(root, &mut |n| {
+    walk(main.root, &mut |n| {
         cut |= !n.cut.is_empty();
         if n.kind == RayKind::TotalInternalReflection && tir.is_none() {
             tir = Some(n.depth);
@@ -63,6 +76,49 @@ pub(crate) fn verdict(samples: &[RayNode], bytes: [u8; 3], file: Option<&str>) -
         );
     }
     said.join(" ")
+}
+
+/// The samples of a pixel that see the same thing for the same reason.
+struct Side<'a> {
+    /// What their camera rays hit: (primitive, light), both `None` for the background.
+    seen: (Option<u32>, Option<u32>),
+    /// Its name, `sphere #2 (scene.txt:14)`.
+    what: String,
+    /// Why they are what they are.
+    kind: Cause,
+    /// The first one's sentence.
+    said: String,
+    /// The first one.
+    root: &'a RayNode,
+    /// How many samples.
+    count: usize,
+}
+
+/// `samples` gathered into sides, in the order first seen.
+fn sides<'a>(samples: &'a [RayNode], bytes: [u8; 3], file: Option<&str>) -> Vec<Side<'a>> {
+    let mut sides: Vec<Side> = Vec::new();
+    for root in samples {
+        let (kind, said) = cause(root, bytes, file);
+        let seen = root
+            .hit
+            .as_ref()
+            .map_or((None, None), |h| (h.primitive, h.light));
+        match sides.iter_mut().find(|s| s.seen == seen && s.kind == kind) {
+            Some(side) => side.count += 1,
+            None => sides.push(Side {
+                seen,
+                what: root
+                    .hit
+                    .as_ref()
+                    .map_or("the background".to_string(), |h| named(h, file)),
+                kind,
+                said,
+                root,
+                count: 1,
+            }),
+        }
+    }
+    sides
 }
 
 /// The kinds of main cause a verdict names (the `why` pass's colours).
