@@ -4,6 +4,7 @@
 //! Shading is generic over it, so an observer that watches nothing costs
 //! nothing.
 
+use crate::accel::{QueryCost, QueryTally};
 use crate::geometry::{Hit, Ray, Shape};
 use crate::scene::{Material, Origin};
 use glam::DVec3;
@@ -72,6 +73,18 @@ pub(crate) trait PathObserver {
     /// The observer for the rays of a glossy reflection's fan.
     fn fan(&mut self) -> Self::Fan<'_>;
 
+    /// What counts the ray queries of the rays watched (`()`: nothing).
+    type Queries<'q>: QueryTally
+    where
+        Self: 'q;
+
+    /// Whether it counts the queries (then camera rays are queried one by
+    /// one, not as packets, so that each is counted alone: the same answers).
+    const COUNTS_QUERIES: bool = false;
+
+    /// The tally of the query about to be made.
+    fn queries(&mut self) -> Self::Queries<'_>;
+
     /// A ray hit the surface of `origin` (a primitive block or a light).
     fn hit(&mut self, origin: Origin);
 
@@ -117,6 +130,18 @@ impl<T: PathObserver> PathObserver for &mut T {
     #[inline(always)]
     fn fan(&mut self) -> T::Fan<'_> {
         (**self).fan()
+    }
+
+    type Queries<'q>
+        = T::Queries<'q>
+    where
+        Self: 'q;
+
+    const COUNTS_QUERIES: bool = T::COUNTS_QUERIES;
+
+    #[inline(always)]
+    fn queries(&mut self) -> T::Queries<'_> {
+        (**self).queries()
     }
 
     #[inline(always)]
@@ -175,6 +200,18 @@ impl<A: PathObserver, B: PathObserver> PathObserver for (A, B) {
     #[inline(always)]
     fn fan(&mut self) -> Self::Fan<'_> {
         (self.0.fan(), self.1.fan())
+    }
+
+    type Queries<'q>
+        = (A::Queries<'q>, B::Queries<'q>)
+    where
+        Self: 'q;
+
+    const COUNTS_QUERIES: bool = A::COUNTS_QUERIES || B::COUNTS_QUERIES;
+
+    #[inline(always)]
+    fn queries(&mut self) -> Self::Queries<'_> {
+        (self.0.queries(), self.1.queries())
     }
 
     #[inline(always)]
@@ -244,6 +281,11 @@ impl PathObserver for NoObserver {
         NoObserver
     }
 
+    type Queries<'q> = ();
+
+    #[inline(always)]
+    fn queries(&mut self) {}
+
     #[inline(always)]
     fn hit(&mut self, _: Origin) {}
 
@@ -266,6 +308,11 @@ impl PathObserver for AaHash {
         NoObserver
     }
 
+    type Queries<'q> = ();
+
+    #[inline(always)]
+    fn queries(&mut self) {}
+
     #[inline(always)]
     fn hit(&mut self, origin: Origin) {
         self.0 = self.0.wrapping_add(object_id(origin));
@@ -277,6 +324,32 @@ impl PathObserver for AaHash {
             .0
             .wrapping_add(mix(light as u64 + 1) ^ 0x9e37_79b9_7f4a_7c15);
     }
+}
+
+/// The `cost` pass's observer: counts every query of every ray of the
+/// sample, glossy fans included.
+impl PathObserver for QueryCost {
+    type Fan<'s> = &'s mut QueryCost;
+
+    #[inline(always)]
+    fn fan(&mut self) -> &mut QueryCost {
+        self
+    }
+
+    type Queries<'q> = &'q mut QueryCost;
+
+    const COUNTS_QUERIES: bool = true;
+
+    #[inline(always)]
+    fn queries(&mut self) -> &mut QueryCost {
+        self
+    }
+
+    #[inline(always)]
+    fn hit(&mut self, _: Origin) {}
+
+    #[inline(always)]
+    fn point_light(&mut self, _: u32) {}
 }
 
 impl AaHash {

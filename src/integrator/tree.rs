@@ -147,6 +147,10 @@ impl PathObserver for RayTree {
         self
     }
 
+    type Queries<'q> = ();
+
+    fn queries(&mut self) {}
+
     fn hit(&mut self, _: Origin) {}
 
     fn point_light(&mut self, _: u32) {}

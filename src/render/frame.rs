@@ -5,7 +5,7 @@ use super::camera::CameraRays;
 use crate::accel::PACKET_MAX;
 use crate::geometry::Ray;
 use crate::integrator::{
-    AntiAlias, Integrator, NoObserver, PathObserver, PathState, RayCounts, ShadowHints, mix,
+    AntiAlias, Integrator, PathObserver, PathState, RayCounts, ShadowHints, mix,
 };
 use crate::sampling::strata;
 use crate::scene::Camera;
@@ -169,24 +169,29 @@ impl<'a> Frame<'a> {
 
     /// Pass 2 for pixel (x, y), whose pass-1 colour was `first`: the mean
     /// of the framework's 7×7 grid of camera rays (or PM3's five rays),
-    /// traced as one packet.
-    pub fn refine(
+    /// traced as one packet, each watched by a copy of `fresh` that is
+    /// handed to `seen` once traced.
+    #[allow(clippy::too_many_arguments)] // the pixel, its rays' tallies and observers
+    pub fn refine<O: PathObserver + Clone>(
         &self,
         x: u32,
         y: u32,
         first: DVec3,
         rays: &mut RayCounts,
         hints: &mut ShadowHints,
+        fresh: &O,
+        mut seen: impl FnMut(&O),
     ) -> DVec3 {
         // Summed in grid order, as one ray after another would be.
         let mut sum = DVec3::ZERO;
         self.packet(
             self.refine_count(),
             |k| self.grid_sample(x, y, k),
-            &NoObserver,
-            |_, c, _, r| {
+            fresh,
+            |_, c, o, r| {
                 sum += c;
                 rays.add(r);
+                seen(o);
             },
             hints,
         );
@@ -225,14 +230,18 @@ impl<'a> Frame<'a> {
 
     /// Pass 1 over a tile when a pixel takes `n` (2 or more) stratified
     /// samples: calls `put(x, y, mean, rays traced)` for each pixel, the
-    /// tile's samples traced in packets.
-    pub fn stratified_tile(
+    /// tile's samples traced in packets, each watched by a copy of `fresh`
+    /// that is handed to `seen(x, y, observer)` once traced.
+    #[allow(clippy::too_many_arguments)] // the tile, its rays' tallies and observers
+    pub fn stratified_tile<O: PathObserver + Clone>(
         &self,
         (xs, ys): Tile,
         n: u32,
         rays: &mut RayCounts,
         hints: &mut ShadowHints,
+        fresh: &O,
         mut put: impl FnMut(u32, u32, DVec3, u64),
+        mut seen: impl FnMut(u32, u32, &O),
     ) {
         let strata = strata(n);
         let (w, n) = (xs.len() as u64, u64::from(n));
@@ -256,9 +265,10 @@ impl<'a> Frame<'a> {
                     let (x, y, s) = at(start + k as u64);
                     self.jittered(x, y, s, strata)
                 },
-                &NoObserver,
-                |k, c, _, r| {
+                fresh,
+                |k, c, o, r| {
                     let (x, y, s) = at(start + k as u64);
+                    seen(x, y, o);
                     // Summed in sample order, as ray after ray would be.
                     sum += c;
                     rays.add(r);
@@ -278,7 +288,7 @@ impl<'a> Frame<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::integrator::{AaHash, SceneAccel};
+    use crate::integrator::{AaHash, NoObserver, SceneAccel};
     use crate::scene::Scene;
     use std::fmt::Write;
 
@@ -362,7 +372,15 @@ mod tests {
         // Pass 2: a pixel's 7×7 grid as one packet, against ray after ray.
         for (x, y) in [(0, 0), (30, 18), (60, 36), (12, 25)] {
             let mut rays = RayCounts::default();
-            let got = frame.refine(x, y, DVec3::ZERO, &mut rays, &mut hints);
+            let got = frame.refine(
+                x,
+                y,
+                DVec3::ZERO,
+                &mut rays,
+                &mut hints,
+                &NoObserver,
+                |_| {},
+            );
             let mut want = DVec3::ZERO;
             let mut want_rays = RayCounts::default();
             for a in 0..AA_GRID {
@@ -431,9 +449,18 @@ mod tests {
             }
             let mut rays = RayCounts::default();
             let mut got = std::collections::HashMap::new();
-            frame.stratified_tile((xs, ys), n, &mut rays, &mut hints, |x, y, c, _| {
+            let put = |x, y, c, _| {
                 assert!(got.insert((x, y), c).is_none(), "pixel {x} {y} twice");
-            });
+            };
+            frame.stratified_tile(
+                (xs, ys),
+                n,
+                &mut rays,
+                &mut hints,
+                &NoObserver,
+                put,
+                |_, _, _| {},
+            );
             assert_eq!(got, want, "{n} samples");
             assert_eq!(rays, want_rays, "{n} samples");
             assert!(rays.shadow > 0);

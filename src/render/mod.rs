@@ -25,7 +25,7 @@ use crate::integrator::{Integrator, RayCounts, SceneAccel};
 use crate::output::Image;
 use crate::scene::{Camera, LightKind, MAX_IMAGE_SIDE, Scene};
 use frame::Frame;
-use passes::{Watch, render_region};
+use passes::{Keep, Watch, render_region};
 use shading_passes::ShadingPasses;
 use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
@@ -310,7 +310,11 @@ impl Renderer {
             }
         })?;
         let done = schedule::with_threads(options.threads, || {
-            let keep = (count, shading.as_ref());
+            let keep = Keep {
+                rays: count,
+                shading: shading.as_ref(),
+                cost: options.aovs.contains(&Aov::Cost),
+            };
             render_region(&frame, region, options.spp, keep, &watch)
         });
         let done = done.ok_or(RenderError::Cancelled)?;
@@ -321,7 +325,7 @@ impl Renderer {
             .aovs
             .iter()
             .copied()
-            .filter(|&a| a != Aov::Rays && !a.shaded())
+            .filter(|&a| !a.rendered() && !a.shaded())
             .collect();
         let mut planes = if first_hit.is_empty() {
             Vec::new()
@@ -335,6 +339,9 @@ impl Renderer {
         }
         if let Some(counts) = done.rays_per_pixel {
             planes.push((Aov::Rays, counts));
+        }
+        if let Some(costs) = done.costs {
+            planes.push((Aov::Cost, costs));
         }
         // In the order asked for.
         for &aov in &options.aovs {

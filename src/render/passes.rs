@@ -8,6 +8,7 @@
 use super::film::Region;
 use super::frame::{BAND, Frame, Tile};
 use super::shading_passes::{LightTally, ShadingPasses};
+use crate::accel::QueryCost;
 use crate::integrator::{AaHash, NoObserver, PathObserver, RayCounts, ShadowHints};
 use glam::DVec3;
 use rayon::prelude::*;
@@ -39,18 +40,36 @@ pub(crate) struct Rendered {
     pub rays_per_pixel: Option<Vec<f32>>,
     /// The shading passes' values, each pixel's in turn, when asked for.
     pub shading: Option<Vec<f32>>,
+    /// The `cost` pass (nodes, tests per pixel), when asked for.
+    pub costs: Option<Vec<f32>>,
+}
+
+/// What the passes keep besides the colours.
+#[derive(Clone, Copy)]
+pub(crate) struct Keep<'a> {
+    /// The rays traced for each pixel.
+    pub rays: bool,
+    /// The shading passes' values.
+    pub shading: Option<&'a ShadingPasses<'a>>,
+    /// The queries each pixel's samples made.
+    pub cost: bool,
 }
 
 /// What pass 1 keeps of a centre sample's observer: the anti-aliasing's
-/// hash and the shading passes' tally, where it watches them.
+/// hash, the shading passes' tally and the queries' cost, where it watches them.
 trait Kept: PathObserver + Clone {
-    /// The folded hash (0 where not watched).
-    fn hash(&self) -> u32 {
-        0
+    /// The folded hash.
+    fn hash(&self) -> Option<u32> {
+        None
     }
 
-    /// The tally, where watched.
+    /// The tally.
     fn tally(&self) -> Option<&LightTally> {
+        None
+    }
+
+    /// The queries' cost.
+    fn cost(&self) -> Option<QueryCost> {
         None
     }
 }
@@ -58,8 +77,8 @@ trait Kept: PathObserver + Clone {
 impl Kept for NoObserver {}
 
 impl Kept for AaHash {
-    fn hash(&self) -> u32 {
-        self.folded()
+    fn hash(&self) -> Option<u32> {
+        Some(self.folded())
     }
 }
 
@@ -69,29 +88,55 @@ impl Kept for LightTally {
     }
 }
 
-impl Kept for (AaHash, LightTally) {
-    fn hash(&self) -> u32 {
-        self.0.folded()
-    }
-
-    fn tally(&self) -> Option<&LightTally> {
-        Some(&self.1)
+impl Kept for QueryCost {
+    fn cost(&self) -> Option<QueryCost> {
+        Some(*self)
     }
 }
 
-/// Pass 1 over `tile`, each centre sample watched by a copy of `fresh`:
-/// calls `put(x, y, colour, hash, tally, rays traced)` for each pixel.
+impl<A: Kept, B: Kept> Kept for (A, B) {
+    fn hash(&self) -> Option<u32> {
+        self.0.hash().or(self.1.hash())
+    }
+
+    fn tally(&self) -> Option<&LightTally> {
+        self.0.tally().or(self.1.tally())
+    }
+
+    fn cost(&self) -> Option<QueryCost> {
+        self.0.cost().or(self.1.cost())
+    }
+}
+
+/// Pass 1 over `tile`, each centre sample watched by a copy of `fresh`
+/// (and the anti-aliasing's hash when `adaptive`): calls `put` for each
+/// pixel with (x, y), its colour, what its observer kept (hash, tally,
+/// cost) and the rays traced.
 fn centre<O: Kept>(
     frame: &Frame,
     tile: Tile,
-    rays: &mut RayCounts,
-    hints: &mut ShadowHints,
+    (rays, hints): (&mut RayCounts, &mut ShadowHints),
+    adaptive: bool,
     fresh: &O,
-    put: &mut impl FnMut(u32, u32, DVec3, u32, Option<&LightTally>, u64),
+    put: &mut impl FnMut(u32, u32, DVec3, Option<u32>, Option<&LightTally>, Option<QueryCost>, u64),
 ) {
-    frame.centre_tile(tile, rays, hints, fresh, |x, y, c, o: &O, r| {
-        put(x, y, c, o.hash(), o.tally(), r)
-    });
+    fn watched<O: Kept>(
+        frame: &Frame,
+        tile: Tile,
+        (rays, hints): (&mut RayCounts, &mut ShadowHints),
+        fresh: &O,
+        put: &mut impl FnMut(u32, u32, DVec3, Option<u32>, Option<&LightTally>, Option<QueryCost>, u64),
+    ) {
+        frame.centre_tile(tile, rays, hints, fresh, |x, y, c, o: &O, r| {
+            put(x, y, c, o.hash(), o.tally(), o.cost(), r)
+        });
+    }
+    if adaptive {
+        let both = (AaHash::default(), fresh.clone());
+        watched(frame, tile, (rays, hints), &both, put);
+    } else {
+        watched(frame, tile, (rays, hints), fresh, put);
+    }
 }
 
 /// The colours of `region`'s pixels, the rays traced (per pixel too when
@@ -101,9 +146,14 @@ pub(crate) fn render_region(
     frame: &Frame,
     region: Region,
     spp: Option<u32>,
-    (count, shading): (bool, Option<&ShadingPasses>),
+    keep: Keep,
     watch: &Watch,
 ) -> Option<Rendered> {
+    let Keep {
+        rays: count,
+        shading,
+        cost,
+    } = keep;
     let (w, h) = (frame.width, frame.height);
     let adaptive = spp.is_none() && frame.refine_count() > 0;
     let spp = spp.map(|n| n.max(1));
@@ -132,11 +182,12 @@ pub(crate) fn render_region(
     let mut counts = vec![0u32; if count { pixels.len() } else { 0 }];
     let per_shaded = shading.map_or(0, ShadingPasses::channels);
     let mut shaded = vec![0f32; pixels.len() * per_shaded];
+    let mut costs = vec![QueryCost::default(); if cost { pixels.len() } else { 0 }];
     let band_rays = |band: usize,
                      band_pixels: &mut [[f32; 3]],
-                     band_hashes: &mut [u32],
-                     band_counts: &mut [u32],
-                     band_shaded: &mut [f32]| {
+                     (band_hashes, band_counts): (&mut [u32], &mut [u32]),
+                     band_shaded: &mut [f32],
+                     band_costs: &mut [QueryCost]| {
         let mut rays = RayCounts::default();
         if watch.cancelled() {
             return rays;
@@ -170,7 +221,15 @@ pub(crate) fn render_region(
                         band_pixels[i] = to_f32(c);
                         tally(i, r);
                     };
-                    frame.stratified_tile(tile.clone(), n, &mut rays, &mut hints, put);
+                    let (rs, hs) = (&mut rays, &mut hints);
+                    if cost {
+                        let spent = |x, y, q: &QueryCost| band_costs[index(x, y)].add(q);
+                        let fresh = QueryCost::default();
+                        frame.stratified_tile(tile.clone(), n, rs, hs, &fresh, put, spent);
+                    } else {
+                        let none = |_, _, _: &NoObserver| {};
+                        frame.stratified_tile(tile.clone(), n, rs, hs, &NoObserver, put, none);
+                    }
                     // No centre sample was traced: the tally traces it apart.
                     if let Some(s) = shading {
                         let put = |x, y, _, t: &LightTally, _| fill(index(x, y), t);
@@ -179,27 +238,31 @@ pub(crate) fn render_region(
                     }
                 }
                 _ => {
-                    let mut put = |x, y, c, hash, t: Option<&LightTally>, r| {
+                    let mut put = |x, y, c, hash, t: Option<&LightTally>, q, r| {
                         let i = index(x, y);
                         band_pixels[i] = to_f32(c);
-                        if let Some(h) = band_hashes.get_mut(i) {
+                        if let (Some(h), Some(hash)) = (band_hashes.get_mut(i), hash) {
                             *h = hash;
                         }
                         tally(i, r);
                         if let Some(t) = t {
                             fill(i, t);
                         }
-                    };
-                    let (rays, hints) = (&mut rays, &mut hints);
-                    match (adaptive, shading) {
-                        (false, None) => centre(frame, tile, rays, hints, &NoObserver, &mut put),
-                        (true, None) => {
-                            centre(frame, tile, rays, hints, &AaHash::default(), &mut put)
+                        if let (Some(c), Some(q)) = (band_costs.get_mut(i), q) {
+                            *c = q;
                         }
-                        (false, Some(s)) => centre(frame, tile, rays, hints, s.tally(), &mut put),
-                        (true, Some(s)) => {
-                            let both = (AaHash::default(), *s.tally());
-                            centre(frame, tile, rays, hints, &both, &mut put)
+                    };
+                    let state = (&mut rays, &mut hints);
+                    let a = adaptive;
+                    match (shading, cost) {
+                        (None, false) => centre(frame, tile, state, a, &NoObserver, &mut put),
+                        (Some(s), false) => centre(frame, tile, state, a, s.tally(), &mut put),
+                        (None, true) => {
+                            centre(frame, tile, state, a, &QueryCost::default(), &mut put)
+                        }
+                        (Some(s), true) => {
+                            let both = (*s.tally(), QueryCost::default());
+                            centre(frame, tile, state, a, &both, &mut put)
                         }
                     }
                 }
@@ -210,17 +273,18 @@ pub(crate) fn render_region(
     };
     // Each band's slice of the hashes, counts and shading values (empty when not kept).
     let bands = pixels.len().div_ceil(aw * BAND);
-    let (hash_bands, count_bands, shaded_bands) = (
+    let (hash_bands, count_bands, shaded_bands, cost_bands) = (
         band_slices(&mut hashes, aw * BAND, bands),
         band_slices(&mut counts, aw * BAND, bands),
         band_slices(&mut shaded, aw * BAND * per_shaded, bands),
+        band_slices(&mut costs, aw * BAND, bands),
     );
     let band_rays: Vec<RayCounts> = pixels
         .par_chunks_mut(aw * BAND)
         .zip(hash_bands.into_par_iter().zip(count_bands))
-        .zip(shaded_bands)
+        .zip(shaded_bands.into_par_iter().zip(cost_bands))
         .enumerate()
-        .map(|(band, ((p, (hs, cs)), ss))| band_rays(band, p, hs, cs, ss))
+        .map(|(band, ((p, hc), (ss, qs)))| band_rays(band, p, hc, ss, qs))
         .collect();
     let mut rays = RayCounts::default();
     band_rays.iter().for_each(|r| rays.add(r));
@@ -241,19 +305,26 @@ pub(crate) fn render_region(
         refined = edge.len() as u64;
         let n = frame.refine_count() as u64;
         total.fetch_add(refined * n, Ordering::Relaxed);
-        let refined_colors: Vec<(DVec3, RayCounts)> = edge
+        let refined_colors: Vec<(DVec3, RayCounts, QueryCost)> = edge
             .par_chunks(16)
             .flat_map_iter(|chunk| {
                 if watch.cancelled() {
                     return Vec::new();
                 }
                 let mut hints = ShadowHints::default();
-                let out: Vec<(DVec3, RayCounts)> = chunk
+                let out: Vec<(DVec3, RayCounts, QueryCost)> = chunk
                     .iter()
                     .map(|&(x, y)| {
-                        let mut rays = RayCounts::default();
+                        let (mut rays, mut spent) = (RayCounts::default(), QueryCost::default());
                         let first = DVec3::from(glam::Vec3::from(pixels[at(x, y)]));
-                        (frame.refine(x, y, first, &mut rays, &mut hints), rays)
+                        let (rs, hs) = (&mut rays, &mut hints);
+                        let c = if cost {
+                            let add = |q: &QueryCost| spent.add(q);
+                            frame.refine(x, y, first, rs, hs, &QueryCost::default(), add)
+                        } else {
+                            frame.refine(x, y, first, rs, hs, &NoObserver, |_| {})
+                        };
+                        (c, rays, spent)
                     })
                     .collect();
                 report(out.len() as u64 * n);
@@ -263,9 +334,12 @@ pub(crate) fn render_region(
         if watch.cancelled() || refined_colors.len() != edge.len() {
             return None;
         }
-        for (&(x, y), (c, r)) in edge.iter().zip(&refined_colors) {
+        for (&(x, y), (c, r, q)) in edge.iter().zip(&refined_colors) {
             pixels[at(x, y)] = to_f32(*c);
             rays.add(r);
+            if let Some(spent) = costs.get_mut(at(x, y)) {
+                spent.add(q);
+            }
             if let Some(n) = counts.get_mut(at(x, y)) {
                 *n = n.saturating_add(r.total().min(u32::MAX as u64) as u32);
             }
@@ -276,12 +350,20 @@ pub(crate) fn render_region(
         crop(all, 1, area, region)
     });
     let shading = shading.map(|_| crop(shaded, per_shaded, area, region));
+    let costs = cost.then(|| {
+        let all = costs
+            .iter()
+            .flat_map(|q| [q.nodes as f32, q.tests as f32])
+            .collect();
+        crop(all, 2, area, region)
+    });
     Some(Rendered {
         pixels: crop(pixels, 1, area, region),
         rays,
         refined,
         rays_per_pixel,
         shading,
+        costs,
     })
 }
 

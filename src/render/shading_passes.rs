@@ -84,6 +84,11 @@ impl PathObserver for LightTally {
         NoObserver
     }
 
+    type Queries<'q> = ();
+
+    #[inline(always)]
+    fn queries(&mut self) {}
+
     #[inline(always)]
     fn hit(&mut self, _: Origin) {}
 
