@@ -151,19 +151,21 @@ pub(crate) fn first_hit_planes(
             let y = region.y + row as u32;
             for (i, px) in values.chunks_mut(per_pixel).enumerate() {
                 let ray = frame.ray(region.x + i as u32, y, 0.5, 0.5);
-                let found = accel.intersect(&ray, f64::INFINITY);
+                // The surface once per pixel, for every pass.
+                let found = accel.intersect(&ray, f64::INFINITY).map(|(index, hit)| {
+                    let object = &accel.objects()[index as usize];
+                    (object, hit, object.shape().surface(&ray, &hit))
+                });
                 let mut at = 0;
                 for &aov in aovs {
                     let out = &mut px[at..at + aov.channels()];
                     at += aov.channels();
-                    let Some((index, hit)) = found else {
+                    let Some((object, hit, s)) = &found else {
                         if aov == Aov::Primitive {
                             out[0] = -1.0;
                         }
                         continue;
                     };
-                    let object = &accel.objects()[index as usize];
-                    let s = object.shape().surface(&ray, &hit);
                     let front = s.normal.dot(ray.dir) < 0.0;
                     let put = |out: &mut [f32], v: &[f64]| {
                         out.iter_mut().zip(v).for_each(|(o, &v)| *o = v as f32);
