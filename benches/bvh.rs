@@ -258,7 +258,9 @@ fn traverse(c: &mut Criterion) {
             b.iter(|| {
                 from_hits
                     .iter()
-                    .filter(|(r, t, i)| accel.occluded_hinted(r, *t, None, Some(*i), &mut None))
+                    .filter(|(r, t, i)| {
+                        accel.occluded_hinted(r, *t, None, Some(*i), &mut None, &mut ())
+                    })
                     .count()
             })
         });

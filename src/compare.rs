@@ -75,6 +75,10 @@ pub struct Comparison {
     /// The heat map: glint's picture dimmed, differences from red (just
     /// over the threshold) to yellow and white (255 apart).
     pub heat: Image,
+    /// The options of `glint explain` that trace glint's pixels as this
+    /// comparison rendered them: the size and samples as given, the seed
+    /// when not 0, and the dialect the scene was drawn in.
+    pub explain_options: Vec<String>,
 }
 
 /// Compares `theirs` (8-bit RGB, rows from the top, `w` × `h`) with
@@ -177,7 +181,37 @@ pub fn compare(
         differing,
         groups,
         heat: Image::from_pixels(w, h, heat),
+        explain_options: explain_options(&options, renderer.scene().dialect().dialect),
     })
+}
+
+/// The options of `glint explain` that draw a pixel as a render with
+/// `options` in `dialect` does.
+fn explain_options(options: &RenderOptions, dialect: crate::Dialect) -> Vec<String> {
+    let given = [
+        ("--width", options.width.map(u64::from)),
+        ("--height", options.height.map(u64::from)),
+        ("--spp", options.spp.map(u64::from)),
+        ("--seed", Some(options.seed).filter(|&s| s != 0)),
+    ];
+    let mut out: Vec<String> = given
+        .into_iter()
+        .filter_map(|(flag, v)| v.map(|v| [flag.to_string(), v.to_string()]))
+        .flatten()
+        .collect();
+    out.extend(["--dialect".to_string(), dialect.name().to_string()]);
+    out
+}
+
+/// `word` as one word of a POSIX shell's command line: as it is when it
+/// holds only safe characters, else in single quotes.
+fn shell_word(word: &str) -> String {
+    let safe = |c: char| c.is_ascii_alphanumeric() || "-_./,:=+@%".contains(c);
+    if !word.is_empty() && word.chars().all(safe) {
+        word.to_string()
+    } else {
+        format!("'{}'", word.replace('\'', "'\\''"))
+    }
 }
 
 impl Group {
@@ -192,10 +226,16 @@ impl Group {
 }
 
 impl Comparison {
-    /// The `glint explain` command for pixel (x, y) of this scene.
+    /// The `glint explain` command for pixel (x, y) of this scene, with
+    /// the options that draw it as this comparison did (a shell's words).
     pub fn explain_command(&self, (x, y): (u32, u32)) -> String {
-        let file = self.file.as_deref().unwrap_or("SCENE");
-        format!("glint explain {file} --pixel {x},{y}")
+        let file = self.file.as_deref().map_or("SCENE".to_string(), shell_word);
+        let mut command = format!("glint explain {file} --pixel {x},{y}");
+        for word in &self.explain_options {
+            command.push(' ');
+            command.push_str(&shell_word(word));
+        }
+        command
     }
 
     /// A summary, then one paragraph per group, worst first.

@@ -172,8 +172,8 @@ pub use probe::{
     MAX_RAY_ERRORS, ProbeHit, RayError, RaysError, parse_ray, read_rays, to_json, to_text,
 };
 pub use render::{
-    Aov, Checkpoint, Control, Explanation, Film, MAX_EXPLAINED_SPP, MAX_THREADS, PhotonStats,
-    Plane, Region, RenderError, RenderOptions, RenderStats, Renderer, Sampling, Stage,
+    Aov, Checkpoint, Control, Explanation, Film, LIGHT_PASSES_MAX, MAX_EXPLAINED_SPP, MAX_THREADS,
+    PhotonStats, Plane, Region, RenderError, RenderOptions, RenderStats, Renderer, Sampling, Stage,
     WorkEstimate, memory_needed,
 };
 pub use scene::{Dialect, DialectChoice, Scene, SceneError};

@@ -169,3 +169,118 @@ fn the_command_writes_the_heat_map_and_json() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("s.txt"));
 }
+
+/// The words of a POSIX shell command line made of plain words,
+/// single-quoted ones and backslash escapes (all that
+/// `Comparison::explain_command` writes).
+fn shell_words(line: &str) -> Vec<String> {
+    let (mut words, mut word, mut quoted, mut any) = (Vec::new(), String::new(), false, false);
+    let mut chars = line.chars();
+    while let Some(c) = chars.next() {
+        match c {
+            '\'' => (quoted, any) = (!quoted, true),
+            '\\' if !quoted => {
+                word.extend(chars.next());
+                any = true;
+            }
+            ' ' if !quoted => {
+                if any {
+                    words.push(std::mem::take(&mut word));
+                }
+                any = false;
+            }
+            _ => (word, any) = (word + &c.to_string(), true),
+        }
+    }
+    if any {
+        words.push(word);
+    }
+    words
+}
+
+#[test]
+fn the_explain_command_draws_glints_pixel_as_the_compare_did() {
+    // A folder with a space and a quote: the file must be quoted.
+    let dir = std::env::temp_dir().join(format!("glint compare's {}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("s.txt");
+    std::fs::write(&scene, SCENE).unwrap();
+    // Options that change pixels: another size, jittered samples, a seed, a dialect.
+    let options = RenderOptions {
+        width: Some(40),
+        height: Some(30),
+        spp: Some(3),
+        seed: 7,
+        ..RenderOptions::default()
+    };
+    let r = Renderer::new(Scene::from_file_as(&scene, Some(glint::Dialect::Z14)).unwrap());
+    let film = r.render(&options).unwrap();
+    let ours = film.image().to_rgb8();
+    // Theirs: glint's, with every pixel of the left half black.
+    let pixels = (0..40 * 30)
+        .map(|i| {
+            let p = &ours[3 * i..3 * i + 3];
+            let keep = i % 40 >= 20;
+            [0, 1, 2].map(|c| {
+                if keep {
+                    p[c] as f32 / 255.0 + 0.5 / 255.0
+                } else {
+                    0.0
+                }
+            })
+        })
+        .collect();
+    let theirs = dir.join("theirs.png");
+    glint::Image::from_pixels(40, 30, pixels)
+        .save(&theirs)
+        .unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_glint"))
+        .arg("compare")
+        .args([&scene, &theirs])
+        .args([
+            "--width", "40", "--height", "30", "--spp", "3", "--seed", "7",
+        ])
+        .args(["--dialect", "z14", "--json"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let groups = json["groups"].as_array().cloned().unwrap_or_default();
+    assert!(!groups.is_empty());
+    for g in groups {
+        let line = g["example"]["explain"].as_str().unwrap_or_default();
+        let words = shell_words(line);
+        assert_eq!(
+            words[..3],
+            ["glint", "explain", scene.to_str().unwrap()],
+            "{line}"
+        );
+        for (flag, value) in [
+            ("--width", "40"),
+            ("--height", "30"),
+            ("--spp", "3"),
+            ("--seed", "7"),
+            ("--dialect", "z14"),
+        ] {
+            let at = words.iter().position(|w| w == flag);
+            assert_eq!(at.map(|i| words[i + 1].as_str()), Some(value), "{line}");
+        }
+        // Run as written: explain's bytes are the render's there.
+        let e = Command::new(env!("CARGO_BIN_EXE_glint"))
+            .args(&words[1..])
+            .arg("--json")
+            .output()
+            .unwrap();
+        assert!(e.status.success(), "{}", String::from_utf8_lossy(&e.stderr));
+        let ex: serde_json::Value = serde_json::from_slice(&e.stdout).unwrap();
+        let (x, y) = (
+            ex["pixel"][0].as_u64().unwrap(),
+            ex["pixel"][1].as_u64().unwrap(),
+        );
+        let i = 3 * (y * 40 + x) as usize;
+        assert_eq!(ex["bytes"], serde_json::json!(ours[i..i + 3]), "{line}");
+        assert_eq!(g["example"]["glint"], ex["bytes"], "{line}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

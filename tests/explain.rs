@@ -309,3 +309,73 @@ fn glass_facing_away_from_the_light_is_not_called_black() {
         e.verdict
     );
 }
+
+/// A ball lit from the camera, on the background, at --spp 4: a pixel on
+/// its silhouette has samples on the ball and samples on the background
+/// (counted here by probing each sample's camera ray), and its verdict
+/// names both sides with their counts; a pixel wholly on one side names
+/// no edge.
+#[test]
+fn a_silhouette_pixel_is_called_an_edge_between_its_sides() {
+    const BALL: &str = "background\n color= 0.2 0.3 0.4\nend\n\
+        camera\n O= 0 -6 0\n N= 0 1 0\n image_W= 24\n image_H= 18\nend\n\
+        light point\n O= 0 -6 0\n color= 1 1 1\nend\n\
+        primitive sphere\n O= 0 0 0\n R= 1.5\n color= 0.9 0.5 0.2\n diff= 0.8\nend\n";
+    let line = BALL
+        .lines()
+        .position(|l| l == "primitive sphere")
+        .unwrap_or(0)
+        + 1;
+    let r = Renderer::new(scene(BALL));
+    let options = RenderOptions {
+        spp: Some(4),
+        ..RenderOptions::default()
+    };
+    let (mut edges, mut whole) = (0, 0);
+    for y in 0..18 {
+        for x in 0..24 {
+            let e = explain(&r, &options, x, y);
+            assert_eq!(e.samples.len(), 4);
+            let on_ball = e
+                .samples
+                .iter()
+                .filter(|s| r.probe(s.origin, s.direction).is_some())
+                .count();
+            let v = &e.verdict;
+            if on_ball == 0 || on_ball == 4 {
+                assert!(!v.contains("edge"), "({x}, {y}): {v}");
+                whole += 1;
+                continue;
+            }
+            edges += 1;
+            let ball = format!("sphere #0 (line {line}) (lit: {on_ball} of 4 samples)");
+            let sky = format!("the background ({} of 4 samples)", 4 - on_ball);
+            // The side more samples see first; of two and two, the one seen first.
+            let ball_first = match on_ball {
+                2 => r
+                    .probe(e.samples[0].origin, e.samples[0].direction)
+                    .is_some(),
+                n => n > 2,
+            };
+            let (first, second) = if ball_first { (ball, sky) } else { (sky, ball) };
+            assert!(
+                v.starts_with(&format!(
+                    "edge between {first} and {second}: the pixel is their mean."
+                )),
+                "({x}, {y}): {v}"
+            );
+            // The first side is explained.
+            let told = match (on_ball, ball_first) {
+                (2, true) => "The first of the largest sides: sphere #0",
+                (2, false) => "The first of the largest sides: background",
+                (_, true) => "Most samples: sphere #0",
+                (_, false) => "Most samples: background",
+            };
+            assert!(v.contains(told), "({x}, {y}): {v}");
+        }
+    }
+    assert!(
+        edges >= 8 && whole >= 100,
+        "{edges} edge pixels, {whole} whole"
+    );
+}

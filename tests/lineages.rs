@@ -714,8 +714,13 @@ fn normal_mapped_plane_shades_with_the_perturbed_normal() {
                 primitive NomalPlane\n N= 0 -1 0\n R= -5\n color= 1 1 1\n diff= 1\n NT= n.bmp\nend\n";
     let scene = glint::Scene::parse(text, &dir).unwrap();
     let renderer = glint::Renderer::new(scene);
+    // Photons off: the ray-traced formula (V's default algorithm is SPPM).
     let options = glint::RenderOptions {
         spp: Some(1),
+        photons: glint::PhotonOptions {
+            mode: Some(glint::PhotonMode::Off),
+            ..glint::PhotonOptions::default()
+        },
         ..glint::RenderOptions::default()
     };
     let image = renderer.render(&options).unwrap().into_image();

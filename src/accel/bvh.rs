@@ -2,6 +2,7 @@
 //! array of 32-byte nodes, and an ordered, allocation-free traversal from
 //! the root or up from a primitive's leaf.
 
+use super::tally::QueryTally;
 use crate::geometry::{Aabb, Ray};
 use glam::DVec3;
 use std::cell::RefCell;
@@ -242,7 +243,9 @@ impl Bvh {
 
     /// Visits, nearest box first, the leaves whose boxes the ray enters at a
     /// distance in [0, `t_best`] (up to the slack); `leaf` gets the leaf's
-    /// primitives and may lower `t_best`, and stops the walk by returning true.
+    /// primitives and may lower `t_best`, and returns whether to stop the
+    /// walk and how many primitives it tested. Every node visited and every
+    /// test is counted into `tally`.
     ///
     /// For a ray leaving the surface of primitive `from`, the walk starts at
     /// its leaf and goes up, visiting at each level the subtree beside the
@@ -257,7 +260,8 @@ impl Bvh {
         from: Option<u32>,
         ray: &Ray,
         t_best: &mut f64,
-        mut leaf: impl FnMut(&[u32], &mut f64) -> bool,
+        tally: &mut impl QueryTally,
+        mut leaf: impl FnMut(&[u32], &mut f64) -> (bool, usize),
     ) {
         let Some(Pair([root, _])) = self.pairs.first() else {
             return;
@@ -279,7 +283,7 @@ impl Bvh {
                 let node = self.node(sub);
                 // The root's box was tested above.
                 if (sub == 0 || rb.entry(&node.bounds, *t_best) != MISS)
-                    && self.walk(&rb, node, t_best, stack, &mut leaf)
+                    && self.walk(&rb, node, t_best, stack, tally, &mut leaf)
                 {
                     return;
                 }
@@ -304,7 +308,8 @@ impl Bvh {
         root: &Node,
         t_best: &mut f64,
         stack: &mut Stack,
-        mut leaf: impl FnMut(&[u32], &mut f64) -> bool,
+        tally: &mut impl QueryTally,
+        mut leaf: impl FnMut(&[u32], &mut f64) -> (bool, usize),
     ) -> bool {
         let Stack {
             node: stack_node,
@@ -313,9 +318,12 @@ impl Bvh {
         let mut sp = 0;
         let mut node = root;
         loop {
+            tally.node();
             if node.count > 0 {
                 let s = node.start as usize;
-                if leaf(&self.prims[s..s + node.count as usize], t_best) {
+                let (stop, tested) = leaf(&self.prims[s..s + node.count as usize], t_best);
+                tally.tests(tested);
+                if stop {
                     return true;
                 }
             } else {
@@ -409,7 +417,8 @@ impl Bvh {
         roots: &[u32],
         ray: &Ray,
         t_best: &mut f64,
-        mut leaf: impl FnMut(&[u32], &mut f64) -> bool,
+        tally: &mut impl QueryTally,
+        mut leaf: impl FnMut(&[u32], &mut f64) -> (bool, usize),
     ) {
         let rb = RayBox::new(ray);
         for &id in roots {
@@ -420,10 +429,13 @@ impl Bvh {
             // A leaf needs no stack.
             let s = node.start as usize;
             let stop = if node.count > 0 {
-                leaf(&self.prims[s..s + node.count as usize], t_best)
+                tally.node();
+                let (stop, tested) = leaf(&self.prims[s..s + node.count as usize], t_best);
+                tally.tests(tested);
+                stop
             } else {
                 let mut stop = false;
-                with_stack(|stack| stop = self.walk(&rb, node, t_best, stack, &mut leaf));
+                with_stack(|stack| stop = self.walk(&rb, node, t_best, stack, tally, &mut leaf));
                 stop
             };
             if stop {
@@ -923,6 +935,7 @@ fn split(items: &mut [Item], ext: &Extents, depth: usize) -> Option<(usize, Exte
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::accel::QueryCost;
     use rand::{Rng, SeedableRng};
 
     fn unit_box() -> [f32; 6] {
@@ -1109,6 +1122,43 @@ mod tests {
         }
         assert!(seen.iter().all(|&k| k == 1));
         max_depth
+    }
+
+    /// A walk that no leaf stops or shortens visits exactly the nodes whose
+    /// boxes the ray enters (a child's box lies in its parent's), and tests
+    /// the primitives of those that are leaves: counted by brute force over
+    /// every node.
+    #[test]
+    fn a_walk_counts_every_node_whose_box_the_ray_enters() {
+        let bvh = Bvh::build(sphere_items(3000, 5), 3000);
+        let ids: Vec<u32> = (0..2 * bvh.pairs.len() as u32)
+            .filter(|&k| k != 1)
+            .collect();
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(9);
+        let mut deep = 0;
+        for _ in 0..400 {
+            let o = DVec3::new(rng.random(), rng.random(), rng.random()) * 140.0 - 20.0;
+            let d = DVec3::new(rng.random(), rng.random(), rng.random()) * 2.0 - 1.0;
+            let ray = Ray::new(o, d.normalize());
+            let rb = RayBox::new(&ray);
+            let entered: Vec<&Node> = ids
+                .iter()
+                .map(|&k| bvh.node(k))
+                .filter(|n| rb.entry(&n.bounds, f64::INFINITY) != MISS)
+                .collect();
+            let want = QueryCost {
+                nodes: entered.len() as u64,
+                tests: entered.iter().map(|n| u64::from(n.count)).sum(),
+            };
+            let mut got = QueryCost::default();
+            let mut t = f64::INFINITY;
+            bvh.traverse(None, &ray, &mut t, &mut got, |prims, _| {
+                (false, prims.len())
+            });
+            assert_eq!(got, want, "{ray:?}");
+            deep += usize::from(want.nodes > 20 && want.tests > 0);
+        }
+        assert!(deep > 30, "{deep} rays entered many boxes");
     }
 
     fn sphere_items(n: usize, seed: u64) -> Vec<Item> {

@@ -12,10 +12,12 @@
 
 mod bvh;
 mod packet;
+mod tally;
 
 use crate::geometry::{Hit, Ray, Shape};
 use bvh::{Bvh, Hull, Item};
 use glam::DVec3;
+pub use tally::{QueryCost, QueryTally};
 
 /// Rays in one packet at most (longer slices are split).
 pub const PACKET_MAX: usize = 64;
@@ -104,34 +106,30 @@ impl<P: Primitive> Accel<P> {
     /// Of hits at the same distance, the lowest index wins.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_max: f64) -> Option<(u32, Hit)> {
-        self.intersect_tallied(ray, t_max, &mut |_, _| {})
+        self.intersect_tallied(ray, t_max, &mut ())
     }
 
-    /// [`Accel::intersect`], telling `tally(leaf, n)` of each group of `n`
-    /// primitives tested: the unbounded ones (`leaf` false, if any), then
-    /// each BVH leaf reached (for the `cost` pass; a no-op `tally` costs nothing).
-    #[inline(always)]
+    /// [`Accel::intersect`], its nodes and tests counted into `tally`.
+    #[inline]
     pub fn intersect_tallied(
         &self,
         ray: &Ray,
         t_max: f64,
-        tally: &mut impl FnMut(bool, usize),
+        tally: &mut impl QueryTally,
     ) -> Option<(u32, Hit)> {
         let mut best: Option<(u32, Hit)> = None;
         let mut t_best = t_max;
-        if !self.unbounded.is_empty() {
-            tally(false, self.unbounded.len());
-        }
+        tally.tests(self.unbounded.len());
         for &i in &self.unbounded {
             self.test(i, ray, &mut best, &mut t_best);
         }
-        self.bvh.traverse(None, ray, &mut t_best, |prims, t_best| {
-            tally(true, prims.len());
-            for &i in prims {
-                self.test(i, ray, &mut best, t_best);
-            }
-            false
-        });
+        self.bvh
+            .traverse(None, ray, &mut t_best, tally, |prims, t_best| {
+                for &i in prims {
+                    self.test(i, ray, &mut best, t_best);
+                }
+                (false, prims.len())
+            });
         best
     }
 
@@ -157,13 +155,14 @@ impl<P: Primitive> Accel<P> {
     /// the visible surface of light `ignore_light`.
     #[cfg(any(test, feature = "bench"))]
     pub fn occluded(&self, ray: &Ray, t_max: f64, ignore_light: Option<u32>) -> bool {
-        self.occluded_hinted(ray, t_max, ignore_light, None, &mut None)
+        self.occluded_hinted(ray, t_max, ignore_light, None, &mut None, &mut ())
     }
 
     /// [`Accel::occluded`] for a ray leaving the surface of object `from`
     /// (if known), whose neighbours are tried first, and trying the object
     /// in `hint` before all, leaving in it the blocker found: the shadow
     /// rays of one point towards one area light mostly meet the same one.
+    /// Its nodes and tests are counted into `tally`.
     pub fn occluded_hinted(
         &self,
         ray: &Ray,
@@ -171,8 +170,9 @@ impl<P: Primitive> Accel<P> {
         ignore_light: Option<u32>,
         from: Option<u32>,
         hint: &mut Option<u32>,
+        tally: &mut impl QueryTally,
     ) -> bool {
-        self.any_hit(ray, t_max, ignore_light, Walk::Up(from), hint)
+        self.any_hit(ray, t_max, ignore_light, Walk::Up(from), hint, tally)
     }
 
     /// The subtrees that the shadow rays from `origin` to points of the box
@@ -198,7 +198,7 @@ impl<P: Primitive> Accel<P> {
     /// [`Accel::occluded_hinted`] for a ray from the origin given to
     /// [`Accel::shadow_reach`] that ends (at `t_max`) in its box, walking
     /// only the subtrees of `reach`: the same answer, the rest of the tree
-    /// being out of the ray's reach.
+    /// being out of the ray's reach. Its nodes and tests are counted into `tally`.
     pub fn occluded_within(
         &self,
         ray: &Ray,
@@ -206,9 +206,10 @@ impl<P: Primitive> Accel<P> {
         ignore_light: Option<u32>,
         reach: &ShadowReach,
         hint: &mut Option<u32>,
+        tally: &mut impl QueryTally,
     ) -> bool {
         let roots = &reach.roots[..reach.len];
-        self.any_hit(ray, t_max, ignore_light, Walk::Within(roots), hint)
+        self.any_hit(ray, t_max, ignore_light, Walk::Within(roots), hint, tally)
     }
 
     /// The any-hit query of [`Accel::occluded_hinted`] and
@@ -222,24 +223,34 @@ impl<P: Primitive> Accel<P> {
         ignore_light: Option<u32>,
         walk: Walk,
         hint: &mut Option<u32>,
+        tally: &mut impl QueryTally,
     ) -> bool {
         let blocks = |i: u32| self.blocks(i, ray, t_max, ignore_light);
-        if hint.is_some_and(blocks) {
-            return true;
+        if let Some(i) = *hint {
+            tally.tests(1);
+            if blocks(i) {
+                return true;
+            }
         }
-        if let Some(&i) = self.unbounded.iter().find(|&&i| blocks(i)) {
-            *hint = Some(i);
+        // The unbounded ones in order, up to the first that blocks.
+        let found = self.unbounded.iter().position(|&i| blocks(i));
+        tally.tests(found.map_or(self.unbounded.len(), |k| k + 1));
+        if let Some(k) = found {
+            *hint = Some(self.unbounded[k]);
             return true;
         }
         let mut blocker = None;
         let mut t_best = t_max;
         let leaf = |prims: &[u32], _: &mut f64| {
-            blocker = prims.iter().copied().find(|&i| blocks(i));
-            blocker.is_some()
+            let k = prims.iter().position(|&i| blocks(i));
+            blocker = k.map(|k| prims[k]);
+            (blocker.is_some(), k.map_or(prims.len(), |k| k + 1))
         };
         match walk {
-            Walk::Up(from) => self.bvh.traverse(from, ray, &mut t_best, leaf),
-            Walk::Within(roots) => self.bvh.traverse_within(roots, ray, &mut t_best, leaf),
+            Walk::Up(from) => self.bvh.traverse(from, ray, &mut t_best, tally, leaf),
+            Walk::Within(roots) => self
+                .bvh
+                .traverse_within(roots, ray, &mut t_best, tally, leaf),
         }
         if blocker.is_some() {
             *hint = blocker;

@@ -58,6 +58,9 @@ struct CompareArgs {
     /// Stratified samples per pixel, as for `render` (default: adaptive anti-aliasing).
     #[arg(long, value_parser = at_least_one::<u32>)]
     spp: Option<u32>,
+    /// Seed of the random streams, as for `render`.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
     /// A pixel differs when a channel is off by more than this (8-bit steps).
     #[arg(long, default_value_t = glint::DEFAULT_THRESHOLD)]
     threshold: u8,
@@ -418,6 +421,7 @@ fn run_compare(args: CompareArgs, interrupt: &AtomicBool) -> Result<(), Failure>
         width: args.width,
         height: args.height,
         spp: args.spp,
+        seed: args.seed,
         ..RenderOptions::default()
     };
     let c = glint::compare(&renderer, &theirs, size, args.threshold, &options).map_err(
@@ -600,11 +604,7 @@ fn run_render(args: RenderArgs, interrupt: &AtomicBool) -> Result<(), Failure> {
             "{}: interrupted: wrote iteration {} of {}",
             output.display(),
             stats.photons.iterations,
-            options
-                .photons
-                .iterations
-                .unwrap_or(0)
-                .max(stats.photons.iterations)
+            stats.photons.planned
         ));
         return Err(Failure::Interrupted);
     }

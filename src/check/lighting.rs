@@ -95,6 +95,7 @@ pub(crate) fn check(renderer: &Renderer, out: &mut Findings) {
                             own,
                             Some(index),
                             &mut None,
+                            &mut (),
                         )
                 });
             }

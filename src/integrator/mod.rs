@@ -14,7 +14,7 @@ mod whitted;
 
 pub(crate) use model::{AntiAlias, Glossy, Lens, Model};
 pub use observer::RayKind;
-pub(crate) use observer::{AaHash, NoObserver, PathObserver, mix};
+pub(crate) use observer::{AaHash, LightSeen, NoObserver, PathObserver, SurfaceSeen, mix};
 pub use path::RayCounts;
 pub(crate) use path::{PathState, SceneAccel};
 pub(crate) use tree::RayTree;

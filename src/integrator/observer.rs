@@ -1,9 +1,11 @@
 //! The path observer: what a renderer may watch along a camera sample's
-//! tree of rays (the anti-aliasing's hash now, a pixel's ray tree next).
+//! tree of rays (the anti-aliasing's hash, a pixel's ray tree, the shading
+//! passes' tally; two at once as a pair).
 //! Shading is generic over it, so an observer that watches nothing costs
 //! nothing.
 
 use super::photons::Gathered;
+use crate::accel::{QueryCost, QueryTally};
 use crate::geometry::{Hit, Ray, Shape};
 use crate::scene::{Material, Origin};
 use glam::DVec3;
@@ -72,6 +74,18 @@ pub(crate) trait PathObserver {
     /// The observer for the rays of a glossy reflection's fan.
     fn fan(&mut self) -> Self::Fan<'_>;
 
+    /// What counts the ray queries of the rays watched (`()`: nothing).
+    type Queries<'q>: QueryTally
+    where
+        Self: 'q;
+
+    /// Whether it counts the queries (then camera rays are queried one by
+    /// one, not as packets, so that each is counted alone: the same answers).
+    const COUNTS_QUERIES: bool = false;
+
+    /// The tally of the query about to be made.
+    fn queries(&mut self) -> Self::Queries<'_>;
+
     /// A ray hit the surface of `origin` (a primitive block or a light).
     fn hit(&mut self, origin: Origin);
 
@@ -120,6 +134,18 @@ impl<T: PathObserver> PathObserver for &mut T {
     #[inline(always)]
     fn fan(&mut self) -> T::Fan<'_> {
         (**self).fan()
+    }
+
+    type Queries<'q>
+        = T::Queries<'q>
+    where
+        Self: 'q;
+
+    const COUNTS_QUERIES: bool = T::COUNTS_QUERIES;
+
+    #[inline(always)]
+    fn queries(&mut self) -> T::Queries<'_> {
+        (**self).queries()
     }
 
     #[inline(always)]
@@ -173,8 +199,87 @@ impl<T: PathObserver> PathObserver for &mut T {
     }
 }
 
+/// Two observers watch the same rays, the first told first.
+impl<A: PathObserver, B: PathObserver> PathObserver for (A, B) {
+    type Fan<'s>
+        = (A::Fan<'s>, B::Fan<'s>)
+    where
+        Self: 's;
+
+    #[inline(always)]
+    fn fan(&mut self) -> Self::Fan<'_> {
+        (self.0.fan(), self.1.fan())
+    }
+
+    type Queries<'q>
+        = (A::Queries<'q>, B::Queries<'q>)
+    where
+        Self: 'q;
+
+    const COUNTS_QUERIES: bool = A::COUNTS_QUERIES || B::COUNTS_QUERIES;
+
+    #[inline(always)]
+    fn queries(&mut self) -> Self::Queries<'_> {
+        (self.0.queries(), self.1.queries())
+    }
+
+    #[inline(always)]
+    fn hit(&mut self, origin: Origin) {
+        self.0.hit(origin);
+        self.1.hit(origin);
+    }
+
+    #[inline(always)]
+    fn point_light(&mut self, light: u32) {
+        self.0.point_light(light);
+        self.1.point_light(light);
+    }
+
+    #[inline(always)]
+    fn ray(&mut self, kind: RayKind, depth: u32, ray: &Ray) {
+        self.0.ray(kind, depth, ray);
+        self.1.ray(kind, depth, ray);
+    }
+
+    #[inline(always)]
+    fn surface(&mut self, seen: &SurfaceSeen<'_>) {
+        self.0.surface(seen);
+        self.1.surface(seen);
+    }
+
+    #[inline(always)]
+    fn emitter(&mut self, light: u32, shape: &Shape, ray: &Ray, hit: &Hit) {
+        self.0.emitter(light, shape, ray, hit);
+        self.1.emitter(light, shape, ray, hit);
+    }
+
+    #[inline(always)]
+    fn light(&mut self, seen: &LightSeen) {
+        self.0.light(seen);
+        self.1.light(seen);
+    }
+
+    #[inline(always)]
+    fn cut(&mut self, kind: RayKind) {
+        self.0.cut(kind);
+        self.1.cut(kind);
+    }
+
+    #[inline(always)]
+    fn shaded(&mut self, sum: DVec3) {
+        self.0.shaded(sum);
+        self.1.shaded(sum);
+    }
+
+    #[inline(always)]
+    fn done(&mut self, color: DVec3, weight: DVec3) {
+        self.0.done(color, weight);
+        self.1.done(color, weight);
+    }
+}
+
 /// Watches nothing.
-#[derive(Default)]
+#[derive(Clone, Copy, Default)]
 pub(crate) struct NoObserver;
 
 impl PathObserver for NoObserver {
@@ -184,6 +289,11 @@ impl PathObserver for NoObserver {
     fn fan(&mut self) -> NoObserver {
         NoObserver
     }
+
+    type Queries<'q> = ();
+
+    #[inline(always)]
+    fn queries(&mut self) {}
 
     #[inline(always)]
     fn hit(&mut self, _: Origin) {}
@@ -207,6 +317,11 @@ impl PathObserver for AaHash {
         NoObserver
     }
 
+    type Queries<'q> = ();
+
+    #[inline(always)]
+    fn queries(&mut self) {}
+
     #[inline(always)]
     fn hit(&mut self, origin: Origin) {
         self.0 = self.0.wrapping_add(object_id(origin));
@@ -218,6 +333,32 @@ impl PathObserver for AaHash {
             .0
             .wrapping_add(mix(light as u64 + 1) ^ 0x9e37_79b9_7f4a_7c15);
     }
+}
+
+/// The `cost` pass's observer: counts every query of every ray of the
+/// sample, glossy fans included.
+impl PathObserver for QueryCost {
+    type Fan<'s> = &'s mut QueryCost;
+
+    #[inline(always)]
+    fn fan(&mut self) -> &mut QueryCost {
+        self
+    }
+
+    type Queries<'q> = &'q mut QueryCost;
+
+    const COUNTS_QUERIES: bool = true;
+
+    #[inline(always)]
+    fn queries(&mut self) -> &mut QueryCost {
+        self
+    }
+
+    #[inline(always)]
+    fn hit(&mut self, _: Origin) {}
+
+    #[inline(always)]
+    fn point_light(&mut self, _: u32) {}
 }
 
 impl AaHash {

@@ -102,7 +102,7 @@ pub struct RayNode {
 }
 
 /// Records the trees of the camera rays it watches.
-#[derive(Default)]
+#[derive(Clone, Default)]
 pub(crate) struct RayTree {
     open: Vec<RayNode>,
     done: Vec<RayNode>,
@@ -146,6 +146,10 @@ impl PathObserver for RayTree {
     fn fan(&mut self) -> &mut RayTree {
         self
     }
+
+    type Queries<'q> = ();
+
+    fn queries(&mut self) {}
 
     fn hit(&mut self, _: Origin) {}
 

@@ -1,7 +1,7 @@
 //! Shadow rays: the fraction of a light that a point sees.
 
 use super::path::SceneAccel;
-use crate::accel::ShadowReach;
+use crate::accel::{QueryTally, ShadowReach};
 use crate::geometry::{Ray, offset_origin};
 use crate::scene::Light;
 use glam::DVec3;
@@ -29,8 +29,10 @@ pub(crate) struct ShadowFrom {
 
 /// The shade factor s in [0, 1]: the fraction of shadow rays from `from`
 /// that reach light `index` (see [`Light::shade`]). Returns s and the
-/// number of shadow rays traced; `hints` is read and updated.
+/// number of shadow rays traced; `hints` is read and updated, and the
+/// queries are counted into `tally`.
 #[inline(always)]
+#[allow(clippy::too_many_arguments)] // the shadow rays' origin, light, random stream, hints and tally
 pub(crate) fn shade_factor(
     accel: &SceneAccel,
     light: &Light,
@@ -39,8 +41,9 @@ pub(crate) fn shade_factor(
     samples: u32,
     rng: &mut impl Rng,
     hints: &mut ShadowHints,
+    tally: &mut impl QueryTally,
 ) -> (f64, u64) {
-    let mut shadow = Shadow::new(accel, light, index, from, samples, hints);
+    let mut shadow = Shadow::new(accel, light, index, from, samples, hints, tally);
     light.shade(shadow.origin, samples, rng, |dir, t| shadow.reaches(dir, t))
 }
 
@@ -57,9 +60,10 @@ pub(crate) fn weighted_light(
     samples: u32,
     rng: &mut impl Rng,
     hints: &mut ShadowHints,
+    tally: &mut impl QueryTally,
     weight: impl FnMut(DVec3, f64) -> f64,
 ) -> (f64, u64) {
-    let mut shadow = Shadow::new(accel, light, index, from, samples, hints);
+    let mut shadow = Shadow::new(accel, light, index, from, samples, hints, tally);
     light.shade_weighted(
         shadow.origin,
         samples,
@@ -69,8 +73,9 @@ pub(crate) fn weighted_light(
     )
 }
 
-/// The shadow rays of one shading point towards one light.
-struct Shadow<'a> {
+/// The shadow rays of one shading point towards one light, their queries
+/// counted into a `T`.
+struct Shadow<'a, T> {
     accel: &'a SceneAccel,
     /// Where they start (nudged off the surface).
     origin: DVec3,
@@ -82,9 +87,10 @@ struct Shadow<'a> {
     /// The parts of the tree rays into an area light's box may enter.
     reach: Option<ShadowReach>,
     blocker: &'a mut Option<u32>,
+    tally: &'a mut T,
 }
 
-impl<'a> Shadow<'a> {
+impl<'a, T: QueryTally> Shadow<'a, T> {
     #[inline(always)]
     fn new(
         accel: &'a SceneAccel,
@@ -93,6 +99,7 @@ impl<'a> Shadow<'a> {
         from: &ShadowFrom,
         samples: u32,
         hints: &'a mut ShadowHints,
+        tally: &'a mut T,
     ) -> Self {
         let origin = offset_origin(from.point, from.side);
         let bounds = light.bounds();
@@ -113,6 +120,7 @@ impl<'a> Shadow<'a> {
             own,
             reach,
             blocker: &mut hints[index as usize % HINT_SLOTS],
+            tally,
         }
     }
 
@@ -120,13 +128,14 @@ impl<'a> Shadow<'a> {
     #[inline(always)]
     fn reaches(&mut self, dir: DVec3, t_max: f64) -> bool {
         let ray = Ray { dir, ..self.start };
+        let (own, tally) = (self.own, &mut *self.tally);
         !match &self.reach {
             Some(r) => self
                 .accel
-                .occluded_within(&ray, t_max, self.own, r, self.blocker),
+                .occluded_within(&ray, t_max, own, r, self.blocker, tally),
             None => self
                 .accel
-                .occluded_hinted(&ray, t_max, self.own, self.leaving, self.blocker),
+                .occluded_hinted(&ray, t_max, own, self.leaving, self.blocker, tally),
         }
     }
 }

@@ -95,8 +95,20 @@ impl<'a> Whitted<'a> {
     ) {
         let mut found = [None; PACKET_MAX];
         let found = &mut found[..rays.len()];
-        self.accel.intersect_packet(rays, found);
+        if O::COUNTS_QUERIES {
+            // Ray by ray, each query counted alone: the packet's answers.
+            for (k, ray) in rays.iter().enumerate() {
+                let tally = &mut observers[k].queries();
+                found[k] = self.accel.intersect_tallied(ray, f64::INFINITY, tally);
+            }
+        } else {
+            self.accel.intersect_packet(rays, found);
+        }
         for (k, (ray, &hit)) in rays.iter().zip(found.iter()).enumerate() {
+            if O::COUNTS_QUERIES {
+                // Each sample's cost its own: no blocker remembered from another.
+                *hints = ShadowHints::default();
+            }
             states[k].rays.camera += 1;
             let obs = &mut observers[k];
             obs.ray(RayKind::Camera, 1, ray);
@@ -118,7 +130,9 @@ impl<'a> Whitted<'a> {
         obs: &mut O,
         hints: &mut ShadowHints,
     ) -> DVec3 {
-        let found = self.accel.intersect(ray, f64::INFINITY);
+        let found = self
+            .accel
+            .intersect_tallied(ray, f64::INFINITY, &mut obs.queries());
         self.shade(ray, found, depth, inside, st, obs, hints)
     }
 
@@ -227,6 +241,7 @@ impl<'a> Whitted<'a> {
                         self.shadow_samples,
                         &mut st.rng,
                         hints,
+                        &mut obs.queries(),
                         |l, dist| {
                             let inv = 1.0 / (dist * dist);
                             let (nl, rl) = (n.dot(l), mirror.dot(l));
@@ -271,6 +286,7 @@ impl<'a> Whitted<'a> {
                     self.shadow_samples,
                     &mut st.rng,
                     hints,
+                    &mut obs.queries(),
                 );
                 st.rays.shadow += rays;
                 (seen.s, seen.rays) = (s, rays);

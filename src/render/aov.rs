@@ -1,8 +1,8 @@
 //! Passes (AOVs): what the centre ray of each pixel first hits, stored as
 //! named planes of the film beside the picture. One nearest-hit query per
 //! pixel, no shading: a small cost beside the render. (The passes of the
-//! camera hit's shading, `light:N`, `shade`, `why`, `clamp`, are traced in
-//! `shading_passes`.)
+//! camera hit's shading, `light:N`, `shade`, `why`, `clamp`, are tallied
+//! by pass 1 itself: `shading_passes`.)
 
 use super::film::Region;
 use super::frame::Frame;
@@ -38,8 +38,12 @@ pub enum Aov {
     Why,
     /// What the clamp cut at the centre ray's hit: the sum above 1 per channel.
     Clamp,
-    /// The centre ray's nearest-hit query: BVH leaves reached and
-    /// primitives tested (unbounded ones, planes, count as tests, not leaves).
+    /// The work of every ray query the pixel's samples made (camera,
+    /// reflected, refracted and shadow rays, glossy fans and the 7×7 grid
+    /// included; nearest-hit and any-hit queries alike): BVH nodes visited
+    /// (inner nodes, whose children's boxes are tested, and leaves) and
+    /// primitives tested (the leaves', the unbounded ones, planes, tested
+    /// against every ray, and an any-hit query's hinted blocker).
     Cost,
 }
 
@@ -87,9 +91,14 @@ impl Aov {
         }
     }
 
-    /// Whether it comes from the camera hit's shading (traced apart).
+    /// Whether it comes from the camera hit's shading (tallied by pass 1).
     pub(crate) fn shaded(self) -> bool {
         matches!(self, Aov::Light(_) | Aov::Shade | Aov::Why | Aov::Clamp)
+    }
+
+    /// Whether the render counts it as it traces (rays, queries).
+    pub(crate) fn rendered(self) -> bool {
+        matches!(self, Aov::Rays | Aov::Cost)
     }
 
     /// A comma-separated list of pass names (repeats kept once).
@@ -135,7 +144,6 @@ pub(crate) fn first_hit_planes(
 ) -> Vec<(Aov, Vec<f32>)> {
     let per_pixel: usize = aovs.iter().map(|a| a.channels()).sum();
     let rw = region.width as usize;
-    let cost = aovs.contains(&Aov::Cost);
     let mut all = vec![0f32; region.area() as usize * per_pixel];
     all.par_chunks_mut(rw * per_pixel)
         .enumerate()
@@ -143,32 +151,21 @@ pub(crate) fn first_hit_planes(
             let y = region.y + row as u32;
             for (i, px) in values.chunks_mut(per_pixel).enumerate() {
                 let ray = frame.ray(region.x + i as u32, y, 0.5, 0.5);
-                let mut tally = (0u32, 0u32);
-                let found = if cost {
-                    accel.intersect_tallied(&ray, f64::INFINITY, &mut |leaf, n| {
-                        tally.0 += u32::from(leaf);
-                        tally.1 += n as u32;
-                    })
-                } else {
-                    accel.intersect(&ray, f64::INFINITY)
-                };
+                // The surface once per pixel, for every pass.
+                let found = accel.intersect(&ray, f64::INFINITY).map(|(index, hit)| {
+                    let object = &accel.objects()[index as usize];
+                    (object, hit, object.shape().surface(&ray, &hit))
+                });
                 let mut at = 0;
                 for &aov in aovs {
                     let out = &mut px[at..at + aov.channels()];
                     at += aov.channels();
-                    if aov == Aov::Cost {
-                        out[0] = tally.0 as f32;
-                        out[1] = tally.1 as f32;
-                        continue;
-                    }
-                    let Some((index, hit)) = found else {
+                    let Some((object, hit, s)) = &found else {
                         if aov == Aov::Primitive {
                             out[0] = -1.0;
                         }
                         continue;
                     };
-                    let object = &accel.objects()[index as usize];
-                    let s = object.shape().surface(&ray, &hit);
                     let front = s.normal.dot(ray.dir) < 0.0;
                     let put = |out: &mut [f32], v: &[f64]| {
                         out.iter_mut().zip(v).for_each(|(o, &v)| *o = v as f32);
@@ -187,7 +184,7 @@ pub(crate) fn first_hit_planes(
                                 Origin::Light(l) => -2.0 - l as f32,
                             }
                         }
-                        // Counted by the render itself, or traced apart.
+                        // Counted by the render itself, or tallied by pass 1.
                         Aov::Rays
                         | Aov::Light(_)
                         | Aov::Shade
@@ -202,11 +199,18 @@ pub(crate) fn first_hit_planes(
                 }
             }
         });
+    split_planes(&all, aovs)
+}
+
+/// The planes of `aovs` out of `all`, each pixel's values of every pass in turn.
+pub(crate) fn split_planes(all: &[f32], aovs: &[Aov]) -> Vec<(Aov, Vec<f32>)> {
+    let per_pixel: usize = aovs.iter().map(|a| a.channels()).sum();
+    let pixels = all.len() / per_pixel.max(1);
     let mut planes: Vec<(Aov, Vec<f32>)> = aovs
         .iter()
-        .map(|&a| (a, Vec::with_capacity(region.area() as usize * a.channels())))
+        .map(|&a| (a, Vec::with_capacity(pixels * a.channels())))
         .collect();
-    for px in all.chunks(per_pixel) {
+    for px in all.chunks(per_pixel.max(1)) {
         let mut at = 0;
         for (aov, data) in &mut planes {
             data.extend_from_slice(&px[at..at + aov.channels()]);

@@ -178,10 +178,11 @@ fn anti_aliased(frame: &Frame, x: u32, y: u32, hints: &mut ShadowHints) -> bool 
     .filter(|&(i, j)| i < w && j < h)
     .collect();
     let mut hashes = vec![0u32; around.len()];
-    frame.packet::<AaHash>(
+    frame.packet(
         around.len(),
         |k| frame.centre_sample(around[k].0, around[k].1),
-        |k, _, hash, _| hashes[k] = hash.folded(),
+        &AaHash::default(),
+        |k, _, hash: &mut AaHash, _| hashes[k] = hash.folded(),
         hints,
     );
     let hash = |i: u32, j: u32| {
@@ -206,10 +207,11 @@ fn watched(
     let mut start = 0;
     while start < n {
         let len = (n - start).min(PACKET_MAX);
-        frame.packet::<RayTree>(
+        frame.packet(
             len,
             |k| sample_of(start + k),
-            |_, c, tree, _| {
+            &RayTree::default(),
+            |_, c, tree: &mut RayTree, _| {
                 sum += c;
                 trees.extend(std::mem::take(tree).into_roots());
             },

@@ -5,7 +5,7 @@ use super::camera::CameraRays;
 use crate::accel::PACKET_MAX;
 use crate::geometry::Ray;
 use crate::integrator::{
-    AntiAlias, Integrator, NoObserver, PathObserver, PathState, RayCounts, ShadowHints, mix,
+    AntiAlias, Integrator, PathObserver, PathState, RayCounts, ShadowHints, mix,
 };
 use crate::sampling::strata;
 use crate::scene::Camera;
@@ -186,12 +186,13 @@ impl<'a> Frame<'a> {
     }
 
     /// Traces `n` (at most [`PACKET_MAX`]) camera rays as one packet: ray k
-    /// and its random stream are `sample_of(k)`, watched by a fresh `O`.
-    /// Calls `each(k, colour, observer, rays)` in order.
-    pub fn packet<O: PathObserver + Default>(
+    /// and its random stream are `sample_of(k)`, watched by a copy of
+    /// `fresh`. Calls `each(k, colour, observer, rays)` in order.
+    pub fn packet<O: PathObserver + Clone>(
         &self,
         n: usize,
         sample_of: impl Fn(usize) -> (Ray, PathState),
+        fresh: &O,
         mut each: impl FnMut(usize, DVec3, &mut O, &RayCounts),
         hints: &mut ShadowHints,
     ) {
@@ -205,7 +206,7 @@ impl<'a> Frame<'a> {
         for (k, (ray, st)) in camera.iter_mut().zip(&mut states).take(n).enumerate() {
             (*ray, *st) = sample_of(k);
         }
-        let mut observers: [O; PACKET_MAX] = std::array::from_fn(|_| O::default());
+        let mut observers: [O; PACKET_MAX] = std::array::from_fn(|_| fresh.clone());
         let mut colors = [DVec3::ZERO; PACKET_MAX];
         self.integrator.trace_camera_packet(
             &camera[..n],
@@ -221,23 +222,29 @@ impl<'a> Frame<'a> {
 
     /// Pass 2 for pixel (x, y), whose pass-1 colour was `first`: the mean
     /// of the framework's 7×7 grid of camera rays (or PM3's five rays),
-    /// traced as one packet.
-    pub fn refine(
+    /// traced as one packet, each watched by a copy of `fresh` that is
+    /// handed to `seen` once traced.
+    #[allow(clippy::too_many_arguments)] // the pixel, its rays' tallies and observers
+    pub fn refine<O: PathObserver + Clone>(
         &self,
         x: u32,
         y: u32,
         first: DVec3,
         rays: &mut RayCounts,
         hints: &mut ShadowHints,
+        fresh: &O,
+        mut seen: impl FnMut(&O),
     ) -> DVec3 {
         // Summed in grid order, as one ray after another would be.
         let mut sum = DVec3::ZERO;
-        self.packet::<NoObserver>(
+        self.packet(
             self.refine_count(),
             |k| self.grid_sample(x, y, k),
-            |_, c, _, r| {
+            fresh,
+            |_, c, o, r| {
                 sum += c;
                 rays.add(r);
+                seen(o);
             },
             hints,
         );
@@ -245,13 +252,15 @@ impl<'a> Frame<'a> {
     }
 
     /// Pass 1 over the tile of columns `xs` and rows `ys` when a pixel takes
-    /// one ray through its centre, traced as one packet, each watched by an
-    /// `O`. Calls `put(x, y, colour, observer, rays traced)` for each pixel.
-    pub fn centre_tile<O: PathObserver + Default>(
+    /// one ray through its centre, traced as one packet, each watched by a
+    /// copy of `fresh`. Calls `put(x, y, colour, observer, rays traced)` for
+    /// each pixel.
+    pub fn centre_tile<O: PathObserver + Clone>(
         &self,
         (xs, ys): Tile,
         rays: &mut RayCounts,
         hints: &mut ShadowHints,
+        fresh: &O,
         mut put: impl FnMut(u32, u32, DVec3, &O, u64),
     ) {
         let w = xs.len();
@@ -262,6 +271,7 @@ impl<'a> Frame<'a> {
                 let (x, y) = pixel(k);
                 self.centre_sample(x, y)
             },
+            fresh,
             |k, c, o, r| {
                 let (x, y) = pixel(k);
                 rays.add(r);
@@ -273,14 +283,18 @@ impl<'a> Frame<'a> {
 
     /// Pass 1 over a tile when a pixel takes `n` (2 or more) stratified
     /// samples: calls `put(x, y, mean, rays traced)` for each pixel, the
-    /// tile's samples traced in packets.
-    pub fn stratified_tile(
+    /// tile's samples traced in packets, each watched by a copy of `fresh`
+    /// that is handed to `seen(x, y, observer)` once traced.
+    #[allow(clippy::too_many_arguments)] // the tile, its rays' tallies and observers
+    pub fn stratified_tile<O: PathObserver + Clone>(
         &self,
         (xs, ys): Tile,
         n: u32,
         rays: &mut RayCounts,
         hints: &mut ShadowHints,
+        fresh: &O,
         mut put: impl FnMut(u32, u32, DVec3, u64),
+        mut seen: impl FnMut(u32, u32, &O),
     ) {
         let strata = strata(n);
         let (w, n) = (xs.len() as u64, u64::from(n));
@@ -298,14 +312,16 @@ impl<'a> Frame<'a> {
         let mut start = 0;
         while start < total {
             let len = (total - start).min(PACKET_MAX as u64);
-            self.packet::<NoObserver>(
+            self.packet(
                 len as usize,
                 |k| {
                     let (x, y, s) = at(start + k as u64);
                     self.jittered(x, y, s, strata)
                 },
-                |k, c, _, r| {
+                fresh,
+                |k, c, o, r| {
                     let (x, y, s) = at(start + k as u64);
+                    seen(x, y, o);
                     // Summed in sample order, as ray after ray would be.
                     sum += c;
                     rays.add(r);
@@ -325,7 +341,7 @@ impl<'a> Frame<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::integrator::{AaHash, SceneAccel};
+    use crate::integrator::{AaHash, NoObserver, SceneAccel};
     use crate::scene::Scene;
     use std::fmt::Write;
 
@@ -390,6 +406,7 @@ mod tests {
                 (xs, ys),
                 &mut rays,
                 &mut hints,
+                &AaHash::default(),
                 |x, y, c, hash: &AaHash, _| {
                     let mut st = frame.state(x, y, 0);
                     let mut want_hash = AaHash::default();
@@ -412,7 +429,15 @@ mod tests {
         // Pass 2: a pixel's 7×7 grid as one packet, against ray after ray.
         for (x, y) in [(0, 0), (30, 18), (60, 36), (12, 25)] {
             let mut rays = RayCounts::default();
-            let got = frame.refine(x, y, DVec3::ZERO, &mut rays, &mut hints);
+            let got = frame.refine(
+                x,
+                y,
+                DVec3::ZERO,
+                &mut rays,
+                &mut hints,
+                &NoObserver,
+                |_| {},
+            );
             let mut want = DVec3::ZERO;
             let mut want_rays = RayCounts::default();
             for a in 0..AA_GRID {
@@ -485,9 +510,18 @@ mod tests {
             }
             let mut rays = RayCounts::default();
             let mut got = std::collections::HashMap::new();
-            frame.stratified_tile((xs, ys), n, &mut rays, &mut hints, |x, y, c, _| {
+            let put = |x, y, c, _| {
                 assert!(got.insert((x, y), c).is_none(), "pixel {x} {y} twice");
-            });
+            };
+            frame.stratified_tile(
+                (xs, ys),
+                n,
+                &mut rays,
+                &mut hints,
+                &NoObserver,
+                put,
+                |_, _, _| {},
+            );
             assert_eq!(got, want, "{n} samples");
             assert_eq!(rays, want_rays, "{n} samples");
             assert!(rays.shadow > 0);

@@ -20,6 +20,7 @@ pub use explain::{Explanation, Sampling};
 pub use film::{Film, Plane, Region};
 pub use photons::PhotonStats;
 pub use schedule::MAX_THREADS;
+pub use shading_passes::LIGHT_PASSES_MAX;
 pub(crate) use verdict::{Cause, place};
 
 use crate::integrator::photons::{PhotonMap, PhotonMode, PhotonOptions, Plan, Term};
@@ -27,7 +28,8 @@ use crate::integrator::{Integrator, Model, PhotonShading, RayCounts, SceneAccel}
 use crate::output::Image;
 use crate::scene::{Camera, LightKind, MAX_IMAGE_SIDE, Scene};
 use frame::Frame;
-use passes::{Watch, render_region};
+use passes::{Keep, Watch, render_region};
+use shading_passes::ShadingPasses;
 use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
@@ -127,6 +129,14 @@ pub enum RenderError {
         value: u32,
         /// The most `explain` takes.
         max: u32,
+    },
+    /// More `light:N` passes than one render takes.
+    #[error("{asked} light:N passes asked for: one render takes at most {max}")]
+    LightPasses {
+        /// The `light:N` passes asked for.
+        asked: usize,
+        /// The most one render takes.
+        max: usize,
     },
     /// The cancel flag was set.
     #[error("the render was cancelled")]
@@ -282,10 +292,33 @@ impl Renderer {
         } else {
             1
         };
-        let rays = pixels
+        let mut rays = pixels
             .saturating_mul(samples)
             .saturating_mul(1 + shadow)
             .saturating_mul(spread);
+        let (plan, _) = Plan::of(&self.scene, &options.photons);
+        if plan.mode != PhotonMode::Off {
+            // A photon meets a few surfaces; PPM and SPPM repeat the pass
+            // (SPPM its eye pass too).
+            let passes = if plan.mode.progressive() {
+                plan.iterations
+            } else {
+                1
+            };
+            drivers.push(format!(
+                "photons {}: {} a pass, {passes} pass(es)",
+                plan.mode.name(),
+                plan.emit
+            ));
+            let eye = if plan.mode == PhotonMode::Sppm {
+                pixels.saturating_mul(1 + shadow)
+            } else {
+                0
+            };
+            rays = rays.saturating_add(
+                passes.saturating_mul(plan.emit.saturating_mul(4).saturating_add(eye)),
+            );
+        }
         Ok(WorkEstimate { rays, drivers })
     }
 
@@ -322,14 +355,20 @@ impl Renderer {
         } else {
             (None, PhotonStats::default())
         };
-        let shading = self.photon_shading(&plan, map.as_ref());
-        let (spp, frame) = self.sampled_frame(w, h, options, shading);
+        let tracing = self.photon_shading(&plan, map.as_ref());
+        let (spp, frame) = self.sampled_frame(w, h, options, tracing);
         let watch = Watch {
             progress: control.progress.unwrap_or(&|_, _| {}),
             cancel: control.cancel,
         };
         let count = options.aovs.contains(&Aov::Rays);
-        let (pixels, rays, refined, rays_per_pixel) = if plan.mode.progressive() {
+        let shading = ShadingPasses::of(&options.aovs, &self.scene).map_err(|asked| {
+            RenderError::LightPasses {
+                asked,
+                max: LIGHT_PASSES_MAX,
+            }
+        })?;
+        let done = if plan.mode.progressive() {
             let p = photons::Progressive {
                 frame: &frame,
                 scene: &self.scene,
@@ -357,21 +396,33 @@ impl Renderer {
                 }
             })?;
             photon_stats = stats;
-            (pixels, rays, 0, None)
+            passes::Rendered {
+                pixels,
+                rays,
+                refined: 0,
+                rays_per_pixel: None,
+                shading: None,
+                costs: None,
+            }
         } else {
             let done = schedule::with_threads(options.threads, || {
-                render_region(&frame, region, spp, count, &watch)
+                let keep = Keep {
+                    rays: count,
+                    shading: shading.as_ref(),
+                    cost: options.aovs.contains(&Aov::Cost),
+                };
+                render_region(&frame, region, spp, keep, &watch)
             });
-            let done = done.ok_or(RenderError::Cancelled)?;
-            (done.pixels, done.rays, done.refined, done.rays_per_pixel)
+            done.ok_or(RenderError::Cancelled)?
         };
-        let image = Image::from_pixels(region.width, region.height, pixels);
+        let (rays, refined) = (done.rays, done.refined);
+        let image = Image::from_pixels(region.width, region.height, done.pixels);
         let mut film = Film::new((w, h), region, image);
         let first_hit: Vec<Aov> = options
             .aovs
             .iter()
             .copied()
-            .filter(|&a| a != Aov::Rays && !a.shaded())
+            .filter(|&a| !a.rendered() && !a.shaded())
             .collect();
         let mut planes = if first_hit.is_empty() {
             Vec::new()
@@ -380,13 +431,14 @@ impl Renderer {
                 aov::first_hit_planes(&frame, &self.scene, &self.accel, region, &first_hit)
             })
         };
-        if options.aovs.iter().any(|a| a.shaded()) {
-            planes.extend(schedule::with_threads(options.threads, || {
-                shading_passes::shading_planes(&frame, &self.scene, region, &options.aovs)
-            }));
+        if let (Some(s), Some(values)) = (&shading, &done.shading) {
+            planes.extend(aov::split_planes(values, s.aovs()));
         }
-        if let Some(counts) = rays_per_pixel {
+        if let Some(counts) = done.rays_per_pixel {
             planes.push((Aov::Rays, counts));
+        }
+        if let Some(costs) = done.costs {
+            planes.push((Aov::Cost, costs));
         }
         // In the order asked for.
         for &aov in &options.aovs {

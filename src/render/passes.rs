@@ -6,8 +6,10 @@
 //! see the neighbours they see in a full render: the same bytes.
 
 use super::film::Region;
-use super::frame::{BAND, Frame};
-use crate::integrator::{AaHash, NoObserver, RayCounts, ShadowHints};
+use super::frame::{BAND, Frame, Tile};
+use super::shading_passes::{LightTally, ShadingPasses};
+use crate::accel::QueryCost;
+use crate::integrator::{AaHash, NoObserver, PathObserver, RayCounts, ShadowHints};
 use glam::DVec3;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -37,17 +39,122 @@ pub(crate) struct Rendered {
     pub refined: u64,
     /// Rays traced for each of the region's pixels, when asked for.
     pub rays_per_pixel: Option<Vec<f32>>,
+    /// The shading passes' values, each pixel's in turn, when asked for.
+    pub shading: Option<Vec<f32>>,
+    /// The `cost` pass (nodes, tests per pixel), when asked for.
+    pub costs: Option<Vec<f32>>,
+}
+
+/// What the passes keep besides the colours (by default: nothing).
+#[derive(Clone, Copy, Default)]
+pub(crate) struct Keep<'a> {
+    /// The rays traced for each pixel.
+    pub rays: bool,
+    /// The shading passes' values.
+    pub shading: Option<&'a ShadingPasses<'a>>,
+    /// The queries each pixel's samples made.
+    pub cost: bool,
+}
+
+/// What pass 1 keeps of a centre sample's observer: the anti-aliasing's
+/// hash, the shading passes' tally and the queries' cost, where it watches them.
+trait Kept: PathObserver + Clone {
+    /// The folded hash.
+    fn hash(&self) -> Option<u32> {
+        None
+    }
+
+    /// The tally.
+    fn tally(&self) -> Option<&LightTally> {
+        None
+    }
+
+    /// The queries' cost.
+    fn cost(&self) -> Option<QueryCost> {
+        None
+    }
+}
+
+impl Kept for NoObserver {}
+
+impl Kept for AaHash {
+    fn hash(&self) -> Option<u32> {
+        Some(self.folded())
+    }
+}
+
+impl Kept for LightTally {
+    fn tally(&self) -> Option<&LightTally> {
+        Some(self)
+    }
+}
+
+impl Kept for QueryCost {
+    fn cost(&self) -> Option<QueryCost> {
+        Some(*self)
+    }
+}
+
+impl<A: Kept, B: Kept> Kept for (A, B) {
+    fn hash(&self) -> Option<u32> {
+        self.0.hash().or(self.1.hash())
+    }
+
+    fn tally(&self) -> Option<&LightTally> {
+        self.0.tally().or(self.1.tally())
+    }
+
+    fn cost(&self) -> Option<QueryCost> {
+        self.0.cost().or(self.1.cost())
+    }
+}
+
+/// Pass 1 over `tile`, each centre sample watched by a copy of `fresh`
+/// (and the anti-aliasing's hash when `adaptive`): calls `put` for each
+/// pixel with (x, y), its colour, what its observer kept (hash, tally,
+/// cost) and the rays traced.
+fn centre<O: Kept>(
+    frame: &Frame,
+    tile: Tile,
+    (rays, hints): (&mut RayCounts, &mut ShadowHints),
+    adaptive: bool,
+    fresh: &O,
+    put: &mut impl FnMut(u32, u32, DVec3, Option<u32>, Option<&LightTally>, Option<QueryCost>, u64),
+) {
+    fn watched<O: Kept>(
+        frame: &Frame,
+        tile: Tile,
+        (rays, hints): (&mut RayCounts, &mut ShadowHints),
+        fresh: &O,
+        put: &mut impl FnMut(u32, u32, DVec3, Option<u32>, Option<&LightTally>, Option<QueryCost>, u64),
+    ) {
+        frame.centre_tile(tile, rays, hints, fresh, |x, y, c, o: &O, r| {
+            put(x, y, c, o.hash(), o.tally(), o.cost(), r)
+        });
+    }
+    if adaptive {
+        let both = (AaHash::default(), fresh.clone());
+        watched(frame, tile, (rays, hints), &both, put);
+    } else {
+        watched(frame, tile, (rays, hints), fresh, put);
+    }
 }
 
 /// The colours of `region`'s pixels, the rays traced (per pixel too when
-/// `count`) and the pixels anti-aliased; `None` when cancelled.
+/// `count`), the pixels anti-aliased and the values of the `shading`
+/// passes; `None` when cancelled.
 pub(crate) fn render_region(
     frame: &Frame,
     region: Region,
     spp: Option<u32>,
-    count: bool,
+    keep: Keep,
     watch: &Watch,
 ) -> Option<Rendered> {
+    let Keep {
+        rays: count,
+        shading,
+        cost,
+    } = keep;
     let (w, h) = (frame.width, frame.height);
     let adaptive = spp.is_none() && frame.refine_count() > 0;
     let spp = spp.map(|n| n.max(1));
@@ -74,10 +181,14 @@ pub(crate) fn render_region(
     let mut pixels = vec![[0f32; 3]; aw * area.height as usize];
     let mut hashes = vec![0u32; if adaptive { pixels.len() } else { 0 }];
     let mut counts = vec![0u32; if count { pixels.len() } else { 0 }];
+    let per_shaded = shading.map_or(0, ShadingPasses::channels);
+    let mut shaded = vec![0f32; pixels.len() * per_shaded];
+    let mut costs = vec![QueryCost::default(); if cost { pixels.len() } else { 0 }];
     let band_rays = |band: usize,
                      band_pixels: &mut [[f32; 3]],
-                     band_hashes: &mut [u32],
-                     band_counts: &mut [u32]| {
+                     (band_hashes, band_counts): (&mut [u32], &mut [u32]),
+                     band_shaded: &mut [f32],
+                     band_costs: &mut [QueryCost]| {
         let mut rays = RayCounts::default();
         if watch.cancelled() {
             return rays;
@@ -99,6 +210,11 @@ pub(crate) fn render_region(
                     *n = r.min(u32::MAX as u64) as u32;
                 }
             };
+            let mut fill = |i: usize, t: &LightTally| {
+                if let Some(s) = shading {
+                    s.fill(&mut band_shaded[i * per_shaded..][..per_shaded], t);
+                }
+            };
             match spp {
                 Some(n) if n > 1 => {
                     let put = |x, y, c, r| {
@@ -106,40 +222,70 @@ pub(crate) fn render_region(
                         band_pixels[i] = to_f32(c);
                         tally(i, r);
                     };
-                    frame.stratified_tile(tile, n, &mut rays, &mut hints, put);
-                }
-                _ if !adaptive => {
-                    let put = |x, y, c, _: &NoObserver, r| {
-                        let i = index(x, y);
-                        band_pixels[i] = to_f32(c);
-                        tally(i, r);
-                    };
-                    frame.centre_tile(tile, &mut rays, &mut hints, put);
+                    let (rs, hs) = (&mut rays, &mut hints);
+                    if cost {
+                        let spent = |x, y, q: &QueryCost| band_costs[index(x, y)].add(q);
+                        let fresh = QueryCost::default();
+                        frame.stratified_tile(tile.clone(), n, rs, hs, &fresh, put, spent);
+                    } else {
+                        let none = |_, _, _: &NoObserver| {};
+                        frame.stratified_tile(tile.clone(), n, rs, hs, &NoObserver, put, none);
+                    }
+                    // No centre sample was traced: the tally traces it apart.
+                    if let Some(s) = shading {
+                        let put = |x, y, _, t: &LightTally, _| fill(index(x, y), t);
+                        let mut apart = RayCounts::default();
+                        frame.centre_tile(tile, &mut apart, &mut hints, s.tally(), put);
+                    }
                 }
                 _ => {
-                    let put = |x, y, c, hash: &AaHash, r| {
+                    let mut put = |x, y, c, hash, t: Option<&LightTally>, q, r| {
                         let i = index(x, y);
-                        (band_pixels[i], band_hashes[i]) = (to_f32(c), hash.folded());
+                        band_pixels[i] = to_f32(c);
+                        if let (Some(h), Some(hash)) = (band_hashes.get_mut(i), hash) {
+                            *h = hash;
+                        }
                         tally(i, r);
+                        if let Some(t) = t {
+                            fill(i, t);
+                        }
+                        if let (Some(c), Some(q)) = (band_costs.get_mut(i), q) {
+                            *c = q;
+                        }
                     };
-                    frame.centre_tile(tile, &mut rays, &mut hints, put);
+                    let state = (&mut rays, &mut hints);
+                    let a = adaptive;
+                    match (shading, cost) {
+                        (None, false) => centre(frame, tile, state, a, &NoObserver, &mut put),
+                        (Some(s), false) => centre(frame, tile, state, a, s.tally(), &mut put),
+                        (None, true) => {
+                            centre(frame, tile, state, a, &QueryCost::default(), &mut put)
+                        }
+                        (Some(s), true) => {
+                            let both = (*s.tally(), QueryCost::default());
+                            centre(frame, tile, state, a, &both, &mut put)
+                        }
+                    }
                 }
             }
         }
         report(band_pixels.len() as u64 * per_pixel);
         rays
     };
-    // Each band's slice of the hashes and counts (empty when not kept).
+    // Each band's slice of the hashes, counts and shading values (empty when not kept).
     let bands = pixels.len().div_ceil(aw * BAND);
-    let (hash_bands, count_bands) = (
+    let (hash_bands, count_bands, shaded_bands, cost_bands) = (
         band_slices(&mut hashes, aw * BAND, bands),
         band_slices(&mut counts, aw * BAND, bands),
+        band_slices(&mut shaded, aw * BAND * per_shaded, bands),
+        band_slices(&mut costs, aw * BAND, bands),
     );
     let band_rays: Vec<RayCounts> = pixels
         .par_chunks_mut(aw * BAND)
         .zip(hash_bands.into_par_iter().zip(count_bands))
+        .zip(shaded_bands.into_par_iter().zip(cost_bands))
         .enumerate()
-        .map(|(band, (p, (hs, cs)))| band_rays(band, p, hs, cs))
+        .map(|(band, ((p, hc), (ss, qs)))| band_rays(band, p, hc, ss, qs))
         .collect();
     let mut rays = RayCounts::default();
     band_rays.iter().for_each(|r| rays.add(r));
@@ -160,19 +306,26 @@ pub(crate) fn render_region(
         refined = edge.len() as u64;
         let n = frame.refine_count() as u64;
         total.fetch_add(refined * n, Ordering::Relaxed);
-        let refined_colors: Vec<(DVec3, RayCounts)> = edge
+        let refined_colors: Vec<(DVec3, RayCounts, QueryCost)> = edge
             .par_chunks(16)
             .flat_map_iter(|chunk| {
                 if watch.cancelled() {
                     return Vec::new();
                 }
                 let mut hints = ShadowHints::default();
-                let out: Vec<(DVec3, RayCounts)> = chunk
+                let out: Vec<(DVec3, RayCounts, QueryCost)> = chunk
                     .iter()
                     .map(|&(x, y)| {
-                        let mut rays = RayCounts::default();
+                        let (mut rays, mut spent) = (RayCounts::default(), QueryCost::default());
                         let first = DVec3::from(glam::Vec3::from(pixels[at(x, y)]));
-                        (frame.refine(x, y, first, &mut rays, &mut hints), rays)
+                        let (rs, hs) = (&mut rays, &mut hints);
+                        let c = if cost {
+                            let add = |q: &QueryCost| spent.add(q);
+                            frame.refine(x, y, first, rs, hs, &QueryCost::default(), add)
+                        } else {
+                            frame.refine(x, y, first, rs, hs, &NoObserver, |_| {})
+                        };
+                        (c, rays, spent)
                     })
                     .collect();
                 report(out.len() as u64 * n);
@@ -182,9 +335,12 @@ pub(crate) fn render_region(
         if watch.cancelled() || refined_colors.len() != edge.len() {
             return None;
         }
-        for (&(x, y), (c, r)) in edge.iter().zip(&refined_colors) {
+        for (&(x, y), (c, r, q)) in edge.iter().zip(&refined_colors) {
             pixels[at(x, y)] = to_f32(*c);
             rays.add(r);
+            if let Some(spent) = costs.get_mut(at(x, y)) {
+                spent.add(q);
+            }
             if let Some(n) = counts.get_mut(at(x, y)) {
                 *n = n.saturating_add(r.total().min(u32::MAX as u64) as u32);
             }
@@ -192,27 +348,28 @@ pub(crate) fn render_region(
     }
     let rays_per_pixel = count.then(|| {
         let all: Vec<f32> = counts.iter().map(|&n| n as f32).collect();
-        if area == region {
-            all
-        } else {
-            crop(&all, area, region)
-        }
+        crop(all, 1, area, region)
     });
-    let pixels = if area == region {
-        pixels
-    } else {
-        crop(&pixels, area, region)
-    };
+    let shading = shading.map(|_| crop(shaded, per_shaded, area, region));
+    let costs = cost.then(|| {
+        let all = costs
+            .iter()
+            .flat_map(|q| [q.nodes as f32, q.tests as f32])
+            .collect();
+        crop(all, 2, area, region)
+    });
     Some(Rendered {
-        pixels,
+        pixels: crop(pixels, 1, area, region),
         rays,
         refined,
         rays_per_pixel,
+        shading,
+        costs,
     })
 }
 
 /// `v` cut into `bands` chunks of `len`, or `bands` empty slices when `v` is empty.
-fn band_slices(v: &mut [u32], len: usize, bands: usize) -> Vec<&mut [u32]> {
+fn band_slices<T>(v: &mut [T], len: usize, bands: usize) -> Vec<&mut [T]> {
     if v.is_empty() {
         (0..bands).map(|_| &mut [][..]).collect()
     } else {
@@ -230,14 +387,20 @@ pub(crate) fn differs(hash: impl Fn(u32, u32) -> u32, x: u32, y: u32, w: u32, h:
         || (y + 1 < h && hash(x, y + 1) != hh)
 }
 
-/// The pixels of `region` out of those of `area` (which holds it).
-fn crop<T: Copy>(pixels: &[T], area: Region, region: Region) -> Vec<T> {
+/// The pixels of `region` out of those of `area` (which holds it), `per`
+/// values a pixel.
+fn crop<T: Copy>(pixels: Vec<T>, per: usize, area: Region, region: Region) -> Vec<T> {
+    if area == region {
+        return pixels;
+    }
     let aw = area.width as usize;
     let (dx, dy) = ((region.x - area.x) as usize, (region.y - area.y) as usize);
     (0..region.height as usize)
         .flat_map(|r| {
-            let start = (dy + r) * aw + dx;
-            pixels[start..start + region.width as usize].iter().copied()
+            let start = ((dy + r) * aw + dx) * per;
+            pixels[start..start + region.width as usize * per]
+                .iter()
+                .copied()
         })
         .collect()
 }

@@ -4,7 +4,7 @@
 
 use super::film::Region;
 use super::frame::Frame;
-use super::passes::{Watch, render_region};
+use super::passes::{Keep, Watch, render_region};
 use crate::integrator::photons::{
     Brdf, HitPoint, HitPointObserver, HitPointSeed, PhotonGrid, PhotonMap, PhotonMode, Plan,
     gather, shoot, update_hit_point,
@@ -39,6 +39,8 @@ pub struct PhotonStats {
     pub thinned: u64,
     /// Iterations completed (PPM and SPPM).
     pub iterations: u64,
+    /// Iterations asked for (PPM and SPPM).
+    pub planned: u64,
     /// Hit points (PPM).
     pub hit_points: u64,
 }
@@ -91,7 +93,10 @@ pub(crate) fn progressive(
     let plan = p.plan;
     let total = plan.iterations;
     let pixels = region.area() as usize;
-    let mut stats = PhotonStats::default();
+    let mut stats = PhotonStats {
+        planned: total,
+        ..PhotonStats::default()
+    };
     let mut rays = RayCounts::default();
     // PPM: the direct light once, and its hit points (the pixels' centres).
     let (direct, mut points) = if plan.mode == PhotonMode::Ppm {
@@ -99,8 +104,8 @@ pub(crate) fn progressive(
             progress: &|_, _| {},
             cancel: watch.cancel,
         };
-        let done =
-            render_region(p.frame, region, spp, false, &quiet).ok_or(Unfinished::Cancelled)?;
+        let done = render_region(p.frame, region, spp, Keep::default(), &quiet)
+            .ok_or(Unfinished::Cancelled)?;
         rays.add(&done.rays);
         let (seeds, r) = eye_pass(p.frame, region, |x, y| p.frame.centre_sample(x, y));
         rays.add(&r);
@@ -253,9 +258,10 @@ fn eye_pass(
             let mut rays = RayCounts::default();
             for x in region.x..region.x + region.width {
                 let pixel = (y - region.y) * region.width + (x - region.x);
-                frame.packet::<HitPointObserver>(
+                frame.packet(
                     1,
                     |_| sample(x, y),
+                    &HitPointObserver::default(),
                     |_, c, obs, r| {
                         row.hits.extend(obs.seeds.drain(..).map(|s| (pixel, s)));
                         row.colors.push(c);

@@ -1,121 +1,235 @@
 //! The passes of the camera hit's shading: `light:N`, `shade`, `why` and
-//! `clamp`. Each pixel's centre sample (ray and random stream of pass 1)
-//! is traced again with the ray-tree observer, so every value is the one
-//! the render computed at that hit; refined pixels are described by their
-//! centre sample too. This costs about a `--spp 1` render on top.
+//! `clamp`, tallied by a small observer ([`LightTally`], no allocation) as
+//! pass 1 traces each pixel's centre sample, so every value is the one the
+//! render computed at that hit; refined pixels are described by their
+//! centre sample too. With `--spp` above 1 pass 1 traces no centre sample,
+//! and the tally traces it apart (one more ray per pixel and its shadow rays).
 
 use super::aov::{Aov, albedo};
-use super::film::Region;
-use super::frame::Frame;
-use super::verdict::{Cause, cause};
-use crate::accel::PACKET_MAX;
-use crate::integrator::{RayNode, RayTree, ShadowHints};
-use crate::output::Image;
-use crate::scene::Scene;
-use glam::DVec3;
-use rayon::prelude::*;
+use super::verdict::{Cause, FirstHit, LightCounts, kind};
+use crate::geometry::{Hit, Ray, Shape};
+use crate::integrator::{LightSeen, NoObserver, PathObserver, RayKind, SurfaceSeen};
+use crate::scene::{Material, Origin, Scene};
+use glam::{DVec2, DVec3};
 
-/// The planes of the shading passes of `aovs` over `region` of `frame`.
-pub(crate) fn shading_planes(
-    frame: &Frame,
-    scene: &Scene,
-    region: Region,
-    aovs: &[Aov],
-) -> Vec<(Aov, Vec<f32>)> {
-    let aovs: Vec<Aov> = aovs.iter().copied().filter(|a| a.shaded()).collect();
-    let per_pixel: usize = aovs.iter().map(|a| a.channels()).sum();
-    let rw = region.width as usize;
-    let mut all = vec![0f32; region.area() as usize * per_pixel];
-    all.par_chunks_mut(rw * per_pixel)
-        .enumerate()
-        .for_each(|(row, values)| {
-            let y = region.y + row as u32;
-            let mut hints = ShadowHints::default();
-            for start in (0..rw).step_by(PACKET_MAX) {
-                let len = (rw - start).min(PACKET_MAX);
-                let x0 = region.x + start as u32;
-                frame.packet::<RayTree>(
-                    len,
-                    |k| frame.centre_sample(x0 + k as u32, y),
-                    |k, c, tree, _| {
-                        let roots = std::mem::take(tree).into_roots();
-                        let px = &mut values[(start + k) * per_pixel..][..per_pixel];
-                        if let Some(root) = roots.first() {
-                            fill(px, &aovs, root, c, scene);
-                        }
-                    },
-                    &mut hints,
-                );
-            }
-        });
-    let mut planes: Vec<(Aov, Vec<f32>)> = aovs
-        .iter()
-        .map(|&a| (a, Vec::with_capacity(region.area() as usize * a.channels())))
-        .collect();
-    for px in all.chunks(per_pixel.max(1)) {
-        let mut at = 0;
-        for (aov, data) in &mut planes {
-            data.extend_from_slice(&px[at..at + aov.channels()]);
-            at += aov.channels();
-        }
-    }
-    planes
+/// `light:N` passes one render takes at most (the tally keeps their terms inline).
+pub const LIGHT_PASSES_MAX: usize = 8;
+
+/// What the camera ray of one sample met, and its shading there: what the
+/// shading passes show. Only the camera ray's own hit is tallied (the rays
+/// it spawns are not).
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct LightTally {
+    /// The lights whose terms are kept (the `light:N` passes asked for).
+    wanted: [u32; LIGHT_PASSES_MAX],
+    /// How many of `wanted` are in use.
+    wanted_len: usize,
+    /// Rays begun and not yet done (the camera ray alone: 1).
+    open: u32,
+    /// Whether the camera ray hit an area light's surface.
+    emitter: bool,
+    /// The material at the camera ray's hit on a primitive.
+    material: Option<Material>,
+    /// The texture coordinates there (found only where a light term is
+    /// kept and the material is textured: what the albedo needs).
+    uv: DVec2,
+    /// Each wanted light's diffuse + specular weight (`None`: not computed).
+    terms: [Option<f64>; LIGHT_PASSES_MAX],
+    /// The lights counted as the verdict counts them.
+    lights: LightCounts,
+    /// The sum and the smallest of the shade factors of the lights faced.
+    shade_sum: f64,
+    shade_min: f64,
+    /// The camera ray's sum before the clamp.
+    unclamped: Option<DVec3>,
 }
 
-/// One pixel's values of `aovs`, from its centre sample's tree `root`
-/// whose colour is `color`.
-fn fill(px: &mut [f32], aovs: &[Aov], root: &RayNode, color: DVec3, scene: &Scene) {
-    let mut at = 0;
-    for &aov in aovs {
-        let out = &mut px[at..at + aov.channels()];
-        at += aov.channels();
-        let put = |out: &mut [f32], v: DVec3| {
-            out.copy_from_slice(&v.as_vec3().to_array()[..out.len()]);
+impl LightTally {
+    /// A tally keeping the terms of `lights`; `Err(their number)` past
+    /// [`LIGHT_PASSES_MAX`].
+    fn new(lights: &[u32]) -> Result<Self, usize> {
+        if lights.len() > LIGHT_PASSES_MAX {
+            return Err(lights.len());
+        }
+        let mut tally = LightTally {
+            wanted_len: lights.len(),
+            shade_min: f64::INFINITY,
+            ..LightTally::default()
         };
-        match aov {
-            Aov::Light(n) => put(out, light_term(root, n, scene)),
-            Aov::Shade => {
-                let s: Vec<f64> = root
-                    .lights
-                    .iter()
-                    .filter(|l| l.l_dot_n > 0.0)
-                    .map(|l| l.s)
-                    .collect();
-                if !s.is_empty() {
-                    out[0] = (s.iter().sum::<f64>() / s.len() as f64) as f32;
-                    out[1] = s.iter().copied().fold(f64::INFINITY, f64::min) as f32;
-                }
-            }
-            Aov::Why => {
-                let rgb = Image::from_pixels(1, 1, vec![color.as_vec3().to_array()]).to_rgb8();
-                let kind = cause(root, [rgb[0], rgb[1], rgb[2]], None).0;
-                out[0] = Cause::ALL.iter().position(|&c| c == kind).unwrap_or(0) as f32;
-            }
-            Aov::Clamp => {
-                let over = root
-                    .unclamped
-                    .map_or(DVec3::ZERO, |u| (u - DVec3::ONE).max(DVec3::ZERO));
-                put(out, over);
-            }
-            _ => {}
+        tally.wanted[..lights.len()].copy_from_slice(lights);
+        Ok(tally)
+    }
+
+    /// Whether the event seen now is the camera ray's own.
+    #[inline(always)]
+    fn at_camera(&self) -> bool {
+        self.open == 1
+    }
+
+    /// What the camera ray met, as the verdict reads it.
+    fn first(&self) -> FirstHit<'_> {
+        match (&self.material, self.emitter) {
+            (_, true) => FirstHit::Light,
+            (Some(m), false) => FirstHit::Surface(Some(m)),
+            (None, false) => FirstHit::Nothing,
         }
     }
 }
 
-/// Light `n`'s diffuse and specular at the camera ray's hit: colour ×
-/// texture × the light's colour × (diffuse + specular weight), as the
-/// shading sums it (zero where it faces away or is blocked).
-fn light_term(root: &RayNode, n: u32, scene: &Scene) -> DVec3 {
-    let (Some(hit), Some(m)) = (&root.hit, &root.material) else {
-        return DVec3::ZERO;
-    };
-    let Some(light) = scene.lights().get(n as usize) else {
-        return DVec3::ZERO;
-    };
-    root.lights
-        .iter()
-        .find(|l| l.light == n)
-        .map_or(DVec3::ZERO, |l| {
-            albedo(scene, m, hit.uv) * light.color * (l.diffuse + l.specular)
+impl PathObserver for LightTally {
+    type Fan<'s> = NoObserver;
+
+    #[inline(always)]
+    fn fan(&mut self) -> NoObserver {
+        NoObserver
+    }
+
+    type Queries<'q> = ();
+
+    #[inline(always)]
+    fn queries(&mut self) {}
+
+    #[inline(always)]
+    fn hit(&mut self, _: Origin) {}
+
+    #[inline(always)]
+    fn point_light(&mut self, _: u32) {}
+
+    #[inline(always)]
+    fn ray(&mut self, _: RayKind, _: u32, _: &Ray) {
+        self.open += 1;
+    }
+
+    #[inline(always)]
+    fn surface(&mut self, seen: &SurfaceSeen<'_>) {
+        if self.at_camera() {
+            self.material = Some(*seen.material);
+            if self.wanted_len > 0 && seen.material.texture.is_some() {
+                self.uv = seen.shape.surface(seen.ray, seen.hit).uv;
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn emitter(&mut self, _: u32, _: &Shape, _: &Ray, _: &Hit) {
+        self.emitter |= self.at_camera();
+    }
+
+    #[inline(always)]
+    fn light(&mut self, seen: &LightSeen) {
+        if !self.at_camera() {
+            return;
+        }
+        self.lights.add(seen.l_dot_n, seen.s);
+        if seen.l_dot_n > 0.0 {
+            self.shade_sum += seen.s;
+            self.shade_min = self.shade_min.min(seen.s);
+        }
+        let wanted = &self.wanted[..self.wanted_len];
+        if let Some(k) = wanted.iter().position(|&l| l == seen.light) {
+            self.terms[k].get_or_insert(seen.diffuse + seen.specular);
+        }
+    }
+
+    #[inline(always)]
+    fn shaded(&mut self, sum: DVec3) {
+        if self.at_camera() {
+            self.unclamped = Some(sum);
+        }
+    }
+
+    #[inline(always)]
+    fn done(&mut self, _: DVec3, _: DVec3) {
+        self.open = self.open.saturating_sub(1);
+    }
+}
+
+/// The shading passes a render was asked for, and the tally that gathers them.
+pub(crate) struct ShadingPasses<'a> {
+    aovs: Vec<Aov>,
+    scene: &'a Scene,
+    fresh: LightTally,
+}
+
+impl<'a> ShadingPasses<'a> {
+    /// The shading passes of `aovs` over `scene` (`None` when there are
+    /// none); `Err(their number)` for more `light:N` than [`LIGHT_PASSES_MAX`].
+    pub fn of(aovs: &[Aov], scene: &'a Scene) -> Result<Option<Self>, usize> {
+        let aovs: Vec<Aov> = aovs.iter().copied().filter(|a| a.shaded()).collect();
+        if aovs.is_empty() {
+            return Ok(None);
+        }
+        let lights: Vec<u32> = aovs
+            .iter()
+            .filter_map(|a| match a {
+                Aov::Light(n) => Some(*n),
+                _ => None,
+            })
+            .collect();
+        let fresh = LightTally::new(&lights)?;
+        Ok(Some(ShadingPasses { aovs, scene, fresh }))
+    }
+
+    /// The passes, in the order asked for.
+    pub fn aovs(&self) -> &[Aov] {
+        &self.aovs
+    }
+
+    /// Values per pixel, all passes together.
+    pub fn channels(&self) -> usize {
+        self.aovs.iter().map(|a| a.channels()).sum()
+    }
+
+    /// A fresh tally, for a camera sample.
+    pub fn tally(&self) -> &LightTally {
+        &self.fresh
+    }
+
+    /// One pixel's values of the passes (`channels()` of them), from its
+    /// centre sample's tally `t`.
+    pub fn fill(&self, px: &mut [f32], t: &LightTally) {
+        let mut at = 0;
+        for &aov in &self.aovs {
+            let out = &mut px[at..at + aov.channels()];
+            at += aov.channels();
+            let put = |out: &mut [f32], v: DVec3| {
+                out.copy_from_slice(&v.as_vec3().to_array()[..out.len()]);
+            };
+            match aov {
+                Aov::Light(n) => put(out, self.light_term(t, n)),
+                Aov::Shade if t.lights.facing > 0 => {
+                    out[0] = (t.shade_sum / f64::from(t.lights.facing)) as f32;
+                    out[1] = t.shade_min as f32;
+                }
+                Aov::Why => {
+                    let kind = kind(t.first(), t.lights);
+                    out[0] = Cause::ALL.iter().position(|&c| c == kind).unwrap_or(0) as f32;
+                }
+                Aov::Clamp => {
+                    let over = t
+                        .unclamped
+                        .map_or(DVec3::ZERO, |u| (u - DVec3::ONE).max(DVec3::ZERO));
+                    put(out, over);
+                }
+                _ => {}
+            }
+        }
+    }
+
+    /// Light `n`'s diffuse and specular at the camera ray's hit: colour ×
+    /// texture × the light's colour × (diffuse + specular weight), as the
+    /// shading sums it (zero where it faces away or is blocked).
+    fn light_term(&self, t: &LightTally, n: u32) -> DVec3 {
+        let (Some(m), false) = (&t.material, t.emitter) else {
+            return DVec3::ZERO;
+        };
+        let Some(light) = self.scene.lights().get(n as usize) else {
+            return DVec3::ZERO;
+        };
+        let wanted = &t.wanted[..t.wanted_len];
+        let term = wanted.iter().position(|&l| l == n).and_then(|k| t.terms[k]);
+        term.map_or(DVec3::ZERO, |w| {
+            albedo(self.scene, m, t.uv) * light.color * w
         })
+    }
 }

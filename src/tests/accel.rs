@@ -238,7 +238,8 @@ fn check(objects: &[Object], rays: usize, half: f64, seed: u64) {
                     let want = objects
                         .iter()
                         .any(|o| blocks(o, &shadow, shadow.t_min, t_max, ignore));
-                    let got = accel.occluded_hinted(&shadow, t_max, ignore, Some(i), &mut None);
+                    let got =
+                        accel.occluded_hinted(&shadow, t_max, ignore, Some(i), &mut None, &mut ());
                     assert_eq!(
                         got, want,
                         "ray {n}: shadow {shadow:?} from {i}, t_max {t_max}"
@@ -247,7 +248,8 @@ fn check(objects: &[Object], rays: usize, half: f64, seed: u64) {
                     // earlier ray, or any object at all, changes nothing.
                     let mut guess = Some(rng.random_range(0..objects.len() as u32));
                     for hint in [&mut carried, &mut guess] {
-                        let got = accel.occluded_hinted(&shadow, t_max, ignore, Some(i), hint);
+                        let got =
+                            accel.occluded_hinted(&shadow, t_max, ignore, Some(i), hint, &mut ());
                         assert_eq!(got, want, "ray {n}: shadow {shadow:?} hinted");
                         // A blocked ray leaves its blocker in the hint.
                         let b = hint.filter(|_| got).map(|b| &objects[b as usize]);
@@ -977,7 +979,7 @@ fn check_shadow_reach(objects: &[Object], points: usize, seed: u64) -> (usize, u
             let want = objects
                 .iter()
                 .any(|o| blocks(o, &shadow, shadow.t_min, dist, ignore));
-            let got = accel.occluded_within(&shadow, dist, ignore, &reach, &mut hint);
+            let got = accel.occluded_within(&shadow, dist, ignore, &reach, &mut hint, &mut ());
             assert_eq!(
                 got, want,
                 "point {n}: {shadow:?} to {q}, ignoring {ignore:?}"

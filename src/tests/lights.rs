@@ -43,6 +43,7 @@ fn factor(
         samples,
         &mut rng,
         &mut hints,
+        &mut (),
     )
 }
 

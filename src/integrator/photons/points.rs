@@ -26,7 +26,7 @@ pub(crate) struct HitPointSeed {
 }
 
 /// Collects the diffuse hits of one camera sample's tree.
-#[derive(Default)]
+#[derive(Clone, Default)]
 pub(crate) struct HitPointObserver {
     /// The hits, in the order the tracer met them.
     pub seeds: Vec<HitPointSeed>,
@@ -40,6 +40,10 @@ impl PathObserver for HitPointObserver {
     fn fan(&mut self) -> &mut HitPointObserver {
         self
     }
+
+    type Queries<'q> = ();
+
+    fn queries(&mut self) {}
 
     fn hit(&mut self, _: Origin) {}
 
