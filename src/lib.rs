@@ -163,7 +163,7 @@ pub use check::{CheckReport, Code, ESTIMATE_RAYS_PER_SECOND, Finding, check};
 pub use compare::{CompareError, Comparison, DEFAULT_THRESHOLD, Group, compare, read_picture};
 pub use geometry::Shape;
 pub use integrator::photons::{PhotonFilter, PhotonMode, PhotonOptions};
-pub use integrator::{Blocker, HitInfo, LightTerm, RayCounts, RayKind, RayNode};
+pub use integrator::{Blocker, HitInfo, LightTerm, PhotonTerm, RayCounts, RayKind, RayNode};
 pub use output::{Format, Image, SaveError};
 pub use pass_files::{
     PrimitiveTable, pass_path, primitive_colour, save_exr_layers, save_pass_images,

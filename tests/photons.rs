@@ -146,3 +146,27 @@ fn sppm_direct_light_is_the_pixels_own_jittered_samples() {
         "mean |Δ| {mean}, share within 2: {close}"
     );
 }
+
+#[test]
+fn explain_shows_the_photon_term_and_ends_in_the_rendered_bytes() {
+    let r = renderer(GLASS);
+    let o = options(PhotonMode::Pm, 2);
+    let image = r.render(&o).expect("renders").into_image();
+    let mut with_photons = 0;
+    for (x, y) in [(20, 25), (5, 28), (20, 15), (35, 5), (12, 20)] {
+        let e = r.explain(&o, x, y).expect("explains");
+        let px = image.pixel(x, y).map(|c| (c * 255.0) as u8);
+        assert_eq!(e.bytes, px, "pixel ({x}, {y})");
+        // The camera ray's hit is diffuse here (floor or wall): the map was asked.
+        let root = &e.samples[0];
+        if let Some(p) = &root.photons {
+            with_photons += 1;
+            assert!(p.radius > 0.0 && p.radius <= 0.3 + 1e-12, "{p:?}");
+            assert!(p.term.min_element() >= 0.0);
+        }
+    }
+    assert!(
+        with_photons >= 3,
+        "{with_photons} of 5 pixels show a photon term"
+    );
+}

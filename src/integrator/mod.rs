@@ -18,7 +18,7 @@ pub(crate) use observer::{AaHash, LightSeen, NoObserver, PathObserver, SurfaceSe
 pub use path::RayCounts;
 pub(crate) use path::{PathState, SceneAccel};
 pub(crate) use tree::RayTree;
-pub use tree::{Blocker, HitInfo, LightTerm, RayNode};
+pub use tree::{Blocker, HitInfo, LightTerm, PhotonTerm, RayNode};
 pub(crate) use visibility::ShadowHints;
 #[cfg(test)]
 pub(crate) use visibility::{ShadowFrom, shade_factor};

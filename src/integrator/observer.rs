@@ -112,8 +112,9 @@ pub(crate) trait PathObserver {
     #[inline(always)]
     fn cut(&mut self, _kind: RayKind) {}
 
-    /// The photon estimate at the last surface (PM): what it gathered.
-    fn photons(&mut self, _gathered: &Gathered) {}
+    /// The photon estimate at the last surface (PM): what it gathered and
+    /// the term it adds.
+    fn photons(&mut self, _gathered: &Gathered, _term: DVec3) {}
 
     /// The last ray's sum before the clamp to 1 per channel.
     #[inline(always)]
@@ -184,8 +185,8 @@ impl<T: PathObserver> PathObserver for &mut T {
     }
 
     #[inline(always)]
-    fn photons(&mut self, gathered: &Gathered) {
-        (**self).photons(gathered)
+    fn photons(&mut self, gathered: &Gathered, term: DVec3) {
+        (**self).photons(gathered, term)
     }
 
     #[inline(always)]

@@ -3,6 +3,7 @@
 //! colour it returned (for `glint explain`).
 
 use super::observer::{LightSeen, PathObserver, RayKind, SurfaceSeen};
+use super::photons::Gathered;
 use crate::geometry::{Hit, Ray, Shape};
 use crate::scene::{Material, Origin};
 use glam::{DVec2, DVec3};
@@ -72,6 +73,17 @@ pub struct LightTerm {
     pub(crate) from: (DVec3, DVec3),
 }
 
+/// The photon estimate at a hit (PM).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PhotonTerm {
+    /// Photons gathered (fewer than 8 give no estimate).
+    pub gathered: usize,
+    /// The gather radius r (the K-th nearest photon's distance, or R).
+    pub radius: f64,
+    /// What it adds to the hit's colour, k·(the estimate).
+    pub term: DVec3,
+}
+
 /// One ray of a sample's tree.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RayNode {
@@ -93,6 +105,8 @@ pub struct RayNode {
     pub children: Vec<RayNode>,
     /// Child rays not traced because they would pass the depth limit.
     pub cut: Vec<RayKind>,
+    /// The photon estimate at the hit (PM).
+    pub photons: Option<PhotonTerm>,
     /// The sum before the clamp to 1 per channel (`None` on a miss or a light's surface).
     pub unclamped: Option<DVec3>,
     /// Its colour, clamped.
@@ -166,6 +180,7 @@ impl PathObserver for RayTree {
             lights: Vec::new(),
             children: Vec::new(),
             cut: Vec::new(),
+            photons: None,
             unclamped: None,
             color: DVec3::ZERO,
             weight: DVec3::ONE,
@@ -209,6 +224,16 @@ impl PathObserver for RayTree {
     fn cut(&mut self, kind: RayKind) {
         if let Some(node) = self.top() {
             node.cut.push(kind);
+        }
+    }
+
+    fn photons(&mut self, gathered: &Gathered, term: DVec3) {
+        if let Some(node) = self.top() {
+            node.photons = Some(PhotonTerm {
+                gathered: gathered.count,
+                radius: gathered.r2.sqrt(),
+                term,
+            });
         }
     }
 

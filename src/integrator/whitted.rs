@@ -311,8 +311,9 @@ impl<'a> Whitted<'a> {
                     mirror: reflect(ray.dir, n),
                 };
                 let gathered = map.estimate(point, side, &brdf);
-                obs.photons(&gathered);
-                color += k * gathered.value;
+                let term = k * gathered.value;
+                obs.photons(&gathered, term);
+                color += term;
             }
         }
 

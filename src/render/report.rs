@@ -148,6 +148,11 @@ fn node_json(node: &RayNode, file: Option<&str>, expand: bool) -> Value {
         "specular": node.lights.iter().map(|l| l.specular).sum::<f64>(),
         "children": kids,
         "cut": node.cut.iter().map(|&k| kind_name(k)).collect::<Vec<_>>(),
+        "photons": node.photons.as_ref().map(|p| json!({
+            "gathered": p.gathered,
+            "radius": p.radius,
+            "term": v3(p.term),
+        })),
         "unclamped": node.unclamped.map(v3),
         "clamped": node.unclamped.is_some_and(|u| u.max_element() > 1.0),
         "weight": v3(node.weight),
@@ -266,6 +271,20 @@ fn node_text(out: &mut String, node: &RayNode, indent: usize, file: Option<&str>
             out,
             "{pad}  {} ray not traced: depth limit 10",
             kind_name(*k)
+        );
+    }
+    if let Some(p) = &node.photons {
+        let none = if p.gathered < 8 {
+            " (fewer than 8: no estimate)"
+        } else {
+            ""
+        };
+        let _ = writeln!(
+            out,
+            "{pad}  photons: {} gathered within r = {:.4}{none}, adding {}",
+            p.gathered,
+            p.radius,
+            f(p.term)
         );
     }
     if let Some(u) = node.unclamped {
