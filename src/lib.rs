@@ -35,6 +35,8 @@ mod probe;
 mod render;
 mod sampling;
 pub mod scene;
+#[cfg(feature = "serve")]
+pub mod serve;
 
 /// The private readers the fuzz targets (`fuzz/`) drive; not a public API.
 #[cfg(feature = "fuzzing")]
