@@ -166,21 +166,24 @@ fn many_clients_at_once_are_answered() {
         .map(|_| {
             let (host, token) = (s.host.clone(), s.token.clone());
             std::thread::spawn(move || {
-                let mut ok = 0;
+                let mut ok = Vec::new();
                 for k in 0..10 {
                     let path = ["/api/state", "/api/image.png", "/api/ids", "/api/explain?x=3&y=4"][k % 4];
                     let sep = if path.contains('?') { '&' } else { '?' };
                     let r = request(&host, &format!("GET {path}{sep}token={token} HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n"));
-                    if r.status == 200 {
-                        ok += 1;
-                    }
+                    ok.push((r.status, path, r.head.chars().take(120).collect::<String>()));
                 }
                 ok
             })
         })
         .collect();
-    let answered: usize = threads.into_iter().map(|t| t.join().unwrap_or(0)).sum();
-    assert_eq!(answered, 120);
+    let answers: Vec<_> = threads
+        .into_iter()
+        .flat_map(|t| t.join().unwrap_or_default())
+        .collect();
+    assert_eq!(answers.len(), 120);
+    let refused: Vec<_> = answers.iter().filter(|a| a.0 != 200).collect();
+    assert!(refused.is_empty(), "{refused:?}");
     // Each stream opened with the state and the current frame.
     for rx in &streams {
         wait_event(rx, WAIT, |n, _| n == "state");

@@ -18,6 +18,11 @@ pub(crate) const MAX_CONNECTIONS: usize = 64;
 /// sent after one (a body), may take; past them, 431 and close.
 pub(crate) const MAX_HEAD: usize = 32 << 10;
 
+/// How long a connection is drained, once answered, before it is closed.
+const LINGER: Duration = Duration::from_secs(2);
+/// The most bytes drained then.
+const DRAIN: usize = 16 << 20;
+
 /// Counts a connection open until both directions of its relay end.
 struct Open(Arc<AtomicUsize>);
 
@@ -81,6 +86,28 @@ pub(crate) fn accept_loop(listener: &TcpListener, inner: &PathBuf) {
 
 /// Writes a short response with status `status` and closes the connection.
 fn refuse(client: &mut TcpStream, status: &str, message: &str) {
+    answer(client, status, message);
+    drain(client);
+}
+
+/// Reads and drops what the client still sends, for a while, then closes:
+/// closing with unread bytes would reset the connection, and the client
+/// could lose the answer before reading it.
+fn drain(client: &mut TcpStream) {
+    let _ = client.set_read_timeout(Some(LINGER));
+    let mut buf = [0u8; 8192];
+    let mut left = DRAIN;
+    while left > 0 {
+        match client.read(&mut buf) {
+            Ok(0) | Err(_) => break,
+            Ok(n) => left = left.saturating_sub(n),
+        }
+    }
+    let _ = client.shutdown(Shutdown::Both);
+}
+
+/// Writes a short response with status `status` and says the connection ends.
+fn answer(client: &mut TcpStream, status: &str, message: &str) {
     let body = format!("{message}\n");
     let head = format!(
         "HTTP/1.1 {status}\r\nContent-Type: text/plain; charset=utf-8\r\nContent-Length: {}\r\nConnection: close\r\n\r\n",
@@ -88,7 +115,7 @@ fn refuse(client: &mut TcpStream, status: &str, message: &str) {
     );
     let _ = client.write_all(head.as_bytes());
     let _ = client.write_all(body.as_bytes());
-    let _ = client.shutdown(Shutdown::Both);
+    let _ = client.shutdown(Shutdown::Write);
 }
 
 /// Client to server, counting the bytes since the last blank line (the
@@ -125,8 +152,11 @@ fn relay_up(mut client: TcpStream, mut server: UnixStream) {
     let _ = server.shutdown(Shutdown::Write);
 }
 
-/// Server to client.
+/// Server to client; once the server's side ends, the client's is
+/// drained for a while (see [`drain`]) and closed, which also ends the
+/// other direction.
 fn relay_down(mut server: UnixStream, mut client: TcpStream) {
     let _ = std::io::copy(&mut server, &mut client);
-    let _ = client.shutdown(Shutdown::Both);
+    let _ = client.shutdown(Shutdown::Write);
+    drain(&mut client);
 }

@@ -219,7 +219,8 @@ fn explain(shared: &Shared, query: &[(String, String)]) -> Reply {
         return text(400, "bad request: the frame size is out of range");
     };
     let scene = renderer.scene();
-    let view = Projection::new(scene.camera(), w, h);
+    let lens = crate::integrator::Model::of(scene.dialect().dialect, scene.camera()).lens;
+    let view = Projection::new(scene.camera(), lens, w, h);
     let rays = segments(&e.samples, scene.lights(), &view);
     let tree: serde_json::Value = serde_json::from_str(&e.to_json(false)).unwrap_or_default();
     json_reply(&json!({

@@ -124,6 +124,30 @@ fn internal_error(scene: &Path) -> Diagnostic {
     }
 }
 
+/// Rays the coarse preview may take, by [`Renderer::estimate`]: about
+/// 50 ms on two cores, so that it comes at once.
+const COARSE_RAYS: u64 = 1_000_000;
+
+/// The coarse preview's options: one ray a pixel at a quarter of the size,
+/// or an eighth or a sixteenth where the scene is costly (glossy fans, area
+/// lights), the first whose estimate is within [`COARSE_RAYS`] (`None`
+/// when the size is out of range: the full render says why).
+fn coarse_options(renderer: &Renderer, options: &RenderOptions) -> Option<RenderOptions> {
+    let (w, h) = renderer.frame_size(options).ok()?;
+    let at = |d: u32| RenderOptions {
+        width: Some(w.div_ceil(d)),
+        height: Some(h.div_ceil(d)),
+        spp: Some(1),
+        ..options.clone()
+    };
+    let cost = |o: &RenderOptions| renderer.estimate(o).map_or(u64::MAX, |e| e.rays);
+    [4, 8, 16]
+        .into_iter()
+        .map(at)
+        .find(|o| cost(o) <= COARSE_RAYS)
+        .or_else(|| Some(at(16)))
+}
+
 /// The passes offered for a scene with `lights` lights.
 fn pass_list(lights: usize) -> Vec<Aov> {
     let mut list = vec![
@@ -136,7 +160,6 @@ fn pass_list(lights: usize) -> Vec<Aov> {
         Aov::Shade,
         Aov::Why,
         Aov::Clamp,
-        Aov::Rays,
         Aov::Cost,
     ];
     list.extend((0..lights.min(MAX_LIGHT_PASSES) as u32).map(Aov::Light));
@@ -239,17 +262,17 @@ fn render_version(
         region: None,
         ..shared.options.clone()
     };
-    let rendered = renderer.render_progressive(&options, control, &mut |stage, film| {
+    let publish = |stage: Stage, film: &crate::Film| {
         let (name, next) = match stage {
             Stage::Coarse => ("coarse", Phase::Final),
             Stage::Final => ("final", Phase::Passes),
         };
         let id = shared.next_frame_id();
         let full = size.unwrap_or(film.frame_size());
-        let frame = match Frame::new(id, version, name, full, film, &renderer) {
-            Ok(f) => Arc::new(f),
-            Err(_) => return,
+        let Ok(frame) = Frame::new(id, version, name, full, film, &renderer) else {
+            return;
         };
+        let frame = Arc::new(frame);
         let summary = frame.summary().to_string();
         shared.update(|s| {
             if stage == Stage::Coarse {
@@ -264,9 +287,22 @@ fn render_version(
             s.timings.push((name, ms(noticed)));
         });
         shared.events.send("frame", &summary);
-    });
+    };
+    let quiet = Control {
+        progress: None,
+        ..control
+    };
+    let coarse = coarse_options(&renderer, &options);
+    let rendered = coarse
+        .map_or(Ok(()), |c| {
+            renderer
+                .render_with(&c, quiet)
+                .map(|(film, _)| publish(Stage::Coarse, &film))
+        })
+        .and_then(|()| renderer.render_with(&options, control))
+        .map(|(film, _)| publish(Stage::Final, &film));
     match rendered {
-        Ok(_) => {}
+        Ok(()) => {}
         Err(RenderError::Cancelled) => return,
         Err(e) => {
             shared.update(|s| {
@@ -277,9 +313,12 @@ fn render_version(
         }
     }
 
-    // The passes: a render of their own, so that the picture came first.
+    // The passes: a render of their own, so that the picture came first;
+    // they are all of the centre ray, so its colour is rendered at one ray
+    // a pixel (which is why `rays`, the render's count, is not offered).
     let pass_options = RenderOptions {
         aovs: pass_list(lights),
+        spp: Some(1),
         ..options.clone()
     };
     let Ok((film, _)) = renderer.render_with(&pass_options, control) else {

@@ -206,7 +206,11 @@ pub fn request_bytes(host: &str, request: &[u8]) -> Reply {
     // The server may answer and close before taking all of a large request.
     let _ = s.write_all(request);
     let mut raw = Vec::new();
-    let _ = s.read_to_end(&mut raw);
+    if let Err(e) = s.read_to_end(&mut raw)
+        && raw.is_empty()
+    {
+        raw = format!("(no answer: {e})").into_bytes();
+    }
     let split = raw
         .windows(4)
         .position(|w| w == b"\r\n\r\n")
