@@ -156,6 +156,12 @@
     const octx = off.getContext('2d', { willReadFrequently: true });
     octx.drawImage(img, 0, 0);
     g.pixels = octx.getImageData(0, 0, f.width, f.height).data;
+    if (g.frame && g.frame.version !== f.version) {
+      // What was explained or hovered belongs to the old version.
+      $('explain').textContent = 'click a pixel to see its rays and why it is that colour';
+      $('hover').textContent = 'move the pointer over the picture';
+      g.explained = null;
+    }
     g.ids = ids;
     g.frame = f;
     const at = Date.now();
