@@ -356,6 +356,32 @@ fn passes_ids_and_a_watched_texture() {
         assert_eq!(r.status, 200, "{p}");
         assert_eq!(&r.body[1..4], b"PNG");
     }
+    // The passes (rendered in bands) are glint render --aov's pictures.
+    let out = dir.join("out.png");
+    let rendered = std::process::Command::new(env!("CARGO_BIN_EXE_glint"))
+        .args([
+            "render",
+            "--quiet",
+            "--spp",
+            "1",
+            "--aov",
+            "normal,depth,why,light:0,primitive",
+            "-o",
+        ])
+        .arg(&out)
+        .arg(&scene)
+        .status()
+        .expect("glint render");
+    assert!(rendered.success());
+    for p in ["normal", "depth", "why", "light-0", "primitive"] {
+        let ours = image::load_from_memory(&s.get(&format!("/api/pass/{p}.png")).body)
+            .expect("png")
+            .to_rgb8();
+        let theirs = image::open(dir.join(format!("out.{p}.png")))
+            .expect("pass file")
+            .to_rgb8();
+        assert!(ours == theirs, "{p} differs from glint render --aov's");
+    }
     // The id buffer: GLID, the size, runs covering every pixel; the sphere (0) and the plane (1) are seen.
     let ids = s.get("/api/ids").body;
     assert_eq!(&ids[..4], b"GLID");

@@ -4,7 +4,9 @@
 //! `file:line` and its ray tree must show), saves a change (the new picture
 //! must come), saves a broken file (its diagnostic with the line must show,
 //! the picture stay), fixes it, switches to a pass, takes a screenshot
-//! (not blank), and checks that the page threw no JavaScript error. With
+//! (not blank), compares with a picture of "their own" on the slider
+//! (the summary must name the sphere), and checks that the page threw no
+//! JavaScript error. With
 //! the shared corpus's scene1 at hand it also measures, on scene1, the
 //! time from a save to the coarse preview and to the full image on the page.
 //!
@@ -265,6 +267,13 @@ fn keep(png: &[u8], name: &str) {
     }
 }
 
+/// Asserts that the page's own error list (`glint.errors`: `error` and
+/// `unhandledrejection` events it caught) is empty, before leaving it.
+fn no_page_errors(cdp: &mut Cdp) {
+    let errors = cdp.eval("window.glint ? glint.errors : ['no glint page']");
+    assert_eq!(errors, json!([]), "errors the page caught");
+}
+
 /// Whether a picture is more than a blank page: many colours, and spread.
 fn not_blank(img: &image::RgbImage) -> (usize, bool) {
     let colours: std::collections::HashSet<[u8; 3]> = img.pixels().map(|p| p.0).collect();
@@ -431,6 +440,36 @@ fn the_page_in_a_real_browser() {
     assert!(ok, "the screenshot is blank: {colours} colours");
     keep(&png, "page.png");
 
+    // --compare: their (black) picture on a slider, with the summary beside it.
+    let theirs = dir.join("theirs.png");
+    image::RgbImage::new(320, 240).save(&theirs).expect("png");
+    let compared = Served::start(&scene, &["--compare", theirs.to_str().unwrap_or_default()]);
+    no_page_errors(&mut cdp);
+    cdp.call("Page.navigate", json!({"url": compared.url}));
+    let summary = cdp.wait(
+        "the comparison",
+        "(() => { const e = document.getElementById('compare-summary'); const t = e ? e.textContent : ''; return t.includes('pixels differ') && t; })()",
+    );
+    let summary = summary.as_str().unwrap_or_default();
+    assert!(
+        summary.contains("sphere #0") && summary.contains(&file_line),
+        "{summary}"
+    );
+    cdp.wait(
+        "their picture",
+        "(() => { const i = document.getElementById('theirs'); return !document.getElementById('theirs-clip').hidden && i.complete && i.naturalWidth === 320; })()",
+    );
+    cdp.eval(
+        "(() => { const s = document.getElementById('compare'); s.value = 30; s.dispatchEvent(new Event('input')); })()",
+    );
+    let clip = cdp.eval("document.getElementById('theirs-clip').style.clipPath");
+    assert_eq!(clip, "inset(0px 0px 0px 30%)");
+    let (png, _) = cdp.screenshot();
+    keep(&png, "compare.png");
+    no_page_errors(&mut cdp);
+    cdp.call("Page.navigate", json!({"url": "about:blank"}));
+    drop(compared);
+
     // scene1 of the shared corpus, when at hand: the save-to-picture times.
     let corpus = std::env::var_os("GLINT_SCENES")
         .map(PathBuf::from)
@@ -470,6 +509,7 @@ fn the_page_in_a_real_browser() {
             ));
         }
         // Its passes would share the cores with the render timed here.
+        no_page_errors(&mut cdp);
         cdp.call("Page.navigate", json!({"url": "about:blank"}));
         drop(served1);
         let start = Instant::now();
@@ -489,9 +529,7 @@ fn the_page_in_a_real_browser() {
         eprintln!("scene1: not measured ({} is not there)", scene1.display());
     }
 
-    // No JavaScript error.
-    let page_errors = cdp.eval("glint.errors");
-    assert_eq!(page_errors, json!([]), "errors the page caught");
+    // No JavaScript error (the page's own list was checked before leaving each page).
     let thrown: Vec<&Value> = cdp
         .events
         .iter()

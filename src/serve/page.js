@@ -91,6 +91,7 @@
 
   function showCompare(s) {
     $('compare-bar').hidden = !s.theirs;
+    $('compare-box').hidden = !s.theirs;
     $('theirs-clip').hidden = !s.theirs;
     if (!s.theirs) return;
     const img = $('theirs');
@@ -102,7 +103,7 @@
       const lines = [c.differing + ' of ' + c.size[0] * c.size[1] + ' pixels differ by more than ' + c.threshold + '/255'];
       for (const grp of c.groups.slice(0, 8)) {
         const what = grp.primitive !== null ? grp.type + ' #' + grp.primitive : grp.type;
-        lines.push(what + '  ' + (grp.file || '') + ':' + (grp.line || '?') + '  ' +
+        lines.push(what + (grp.line ? '  ' + (grp.file || '') + ':' + grp.line : '') + '  ' +
           (100 * grp.share).toFixed(1) + ' % of ' + grp.pixels + ' px differ, ' + grp.black_in_theirs + ' black in yours');
       }
       text = lines.join('\n');

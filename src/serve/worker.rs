@@ -321,7 +321,7 @@ fn render_version(
         spp: Some(1),
         ..options.clone()
     };
-    let Ok((film, _)) = renderer.render_with(&pass_options, control) else {
+    let Some(film) = passes_film(&renderer, &pass_options, size, control) else {
         return;
     };
     let hit = crate::pass_files::hit_mask(&film);
@@ -370,6 +370,55 @@ fn render_version(
             s.timings.push(("compare", ms(noticed)));
         });
     }
+}
+
+/// Bands the passes are rendered in: the passes' planes are made without
+/// a look at the cancel flag, so a save waits for one band at most.
+const PASS_BANDS: u32 = 16;
+
+/// The passes of the whole frame (of `size`), rendered band by band,
+/// stitched into one film (whose colour is left black: only the planes are
+/// used); `None` when cancelled or when the size is out of range.
+fn passes_film(
+    renderer: &Renderer,
+    options: &RenderOptions,
+    size: Option<(u32, u32)>,
+    control: Control<'_>,
+) -> Option<crate::Film> {
+    let (w, h) = size?;
+    let band = h.div_ceil(PASS_BANDS).max(1);
+    let mut planes: Vec<(String, usize, Vec<f32>)> = Vec::new();
+    let mut y = 0;
+    while y < h {
+        if control.cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+            return None;
+        }
+        let rows = band.min(h - y);
+        let region = crate::Region {
+            x: 0,
+            y,
+            width: w,
+            height: rows,
+        };
+        let part = RenderOptions {
+            region: Some(region),
+            ..options.clone()
+        };
+        let (film, _) = renderer.render_with(&part, control).ok()?;
+        for p in film.planes() {
+            match planes.iter_mut().find(|(n, _, _)| *n == p.name) {
+                Some((_, _, data)) => data.extend_from_slice(&p.data),
+                None => planes.push((p.name.clone(), p.channels, p.data.clone())),
+            }
+        }
+        y += rows;
+    }
+    let black = crate::Image::from_pixels(w, h, vec![[0.0; 3]; w as usize * h as usize]);
+    let mut film = crate::Film::new((w, h), crate::Region::full(w, h), black);
+    for (name, channels, data) in planes {
+        film.set_plane(&name, channels, data);
+    }
+    Some(film)
 }
 
 /// A render that could not start (a size out of range), as a diagnostic.
