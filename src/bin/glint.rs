@@ -429,8 +429,17 @@ fn run_serve(args: ServeArgs, interrupt: &AtomicBool) -> Result<(), Failure> {
         .ok()
         .filter(|h| !h.is_empty())
         .unwrap_or_else(|| "THIS-MACHINE".to_string());
+    // The tunnel's far end: the address listened on (loopback for 0.0.0.0 or ::).
+    let target = if addr.ip().is_unspecified() {
+        "127.0.0.1".to_string()
+    } else {
+        match addr.ip() {
+            std::net::IpAddr::V6(ip) => format!("[{ip}]"),
+            ip => ip.to_string(),
+        }
+    };
     say(&format!(
-        "from another machine: ssh -L {port}:127.0.0.1:{port} {host}   then open http://127.0.0.1:{port}/?token={token}",
+        "from another machine: ssh -L {port}:{target}:{port} {host}   then open http://127.0.0.1:{port}/?token={token}",
         port = addr.port(),
         token = server.token()
     ));
