@@ -374,7 +374,7 @@ fn render_version(
 
 /// Bands the passes are rendered in: the passes' planes are made without
 /// a look at the cancel flag, so a save waits for one band at most.
-const PASS_BANDS: u32 = 16;
+const PASS_BANDS: u32 = 64;
 
 /// The passes of the whole frame (of `size`), rendered band by band,
 /// stitched into one film (whose colour is left black: only the planes are
