@@ -434,3 +434,37 @@ fn render_error(scene: &Path, e: &RenderError) -> Diagnostic {
         help: None,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn renderer(text: &str) -> Renderer {
+        match Scene::parse(text, ".") {
+            Ok(s) => Renderer::new(s),
+            Err(e) => panic!("{e}"),
+        }
+    }
+
+    #[test]
+    fn the_coarse_preview_is_a_quarter_unless_that_is_costly() {
+        let cheap = renderer(
+            "camera\n O= 0 -5 1\n N= 0 1 0\n image_W= 320\n image_H= 240\nend\n\
+             light point\n O= 3 -3 3\n color= 1 1 1\nend\n\
+             primitive sphere\n O= 0 0 1\n R= 1\n color= 1 0 0\n diff= 0.8\nend\n",
+        );
+        let size = |r: &Renderer| {
+            let o =
+                coarse_options(r, &RenderOptions::default()).map(|o| (o.width, o.height, o.spp));
+            o.unwrap_or_default()
+        };
+        assert_eq!(size(&cheap), (Some(80), Some(60), Some(1)));
+        // A glossy floor: 16 rays a glossy hit make the quarter cost about 1.9 M rays.
+        let glossy = renderer(
+            "camera\n O= 0 -5 1\n N= 0 1 0\n image_W= 1280\n image_H= 760\n drefl_quality= 1\nend\n\
+             light point\n O= 3 -3 3\n color= 1 1 1\nend\n\
+             primitive plane\n N= 0 0 1\n R= 0\n color= 1 1 1\n diff= 0.5\n refl= 0.5\n drefl= 0.1\nend\n",
+        );
+        assert_eq!(size(&glossy), (Some(160), Some(95), Some(1)));
+    }
+}
