@@ -35,6 +35,8 @@ mod probe;
 mod render;
 mod sampling;
 pub mod scene;
+#[cfg(feature = "serve")]
+pub mod serve;
 
 /// Photon passes and estimates for the micro-benchmarks (`benches/photons.rs`).
 #[cfg(feature = "bench")]

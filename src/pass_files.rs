@@ -120,104 +120,12 @@ pub fn save_pass_images(
         .extension()
         .map(|e| e.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let (w, h) = (film.image().width(), film.image().height());
-    // The pixels whose centre ray hit something, from the primitive or depth plane.
-    let hit: Vec<bool> = match (film.plane("primitive"), film.plane("depth")) {
-        (Some(p), _) => p.data.iter().map(|&v| v != -1.0).collect(),
-        (None, Some(d)) => d.data.iter().map(|&v| v > 0.0).collect(),
-        _ => vec![true; (w * h) as usize],
-    };
+    let hit = hit_mask(film);
     let mut written = Vec::new();
     for p in film.planes() {
-        let mut sidecar = None;
-        let pixels: Vec<[f32; 3]> = match p.name.as_str() {
-            "normal" => p
-                .data
-                .chunks(3)
-                .zip(&hit)
-                .map(|(n, &h)| {
-                    if h {
-                        [0.5 + 0.5 * n[0], 0.5 + 0.5 * n[1], 0.5 + 0.5 * n[2]]
-                    } else {
-                        [0.0; 3]
-                    }
-                })
-                .collect(),
-            "why" => {
-                let mut legend = serde_json::Map::new();
-                let pixels = p
-                    .data
-                    .iter()
-                    .map(|&v| {
-                        let kind = Cause::ALL
-                            .get(v as usize)
-                            .copied()
-                            .unwrap_or(Cause::Background);
-                        let c = kind.colour();
-                        let key = format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2]);
-                        legend.entry(key).or_insert_with(
-                            || serde_json::json!({"index": v as u32, "kind": kind.name()}),
-                        );
-                        c.map(|b| b as f32 / 255.0 + 0.5 / 255.0)
-                    })
-                    .collect();
-                sidecar = Some(serde_json::Value::Object(legend));
-                pixels
-            }
-            "primitive" => {
-                let mut legend = serde_json::Map::new();
-                let pixels = p
-                    .data
-                    .iter()
-                    .map(|&v| {
-                        let c = primitive_colour(v);
-                        if v != -1.0 {
-                            let key = format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2]);
-                            legend
-                                .entry(key)
-                                .or_insert_with(|| legend_entry(v, table, file));
-                        }
-                        c.map(|b| b as f32 / 255.0 + 0.5 / 255.0)
-                    })
-                    .collect();
-                sidecar = Some(serde_json::Value::Object(legend));
-                pixels
-            }
-            _ => {
-                let ranges: Vec<(f32, f32)> = (0..p.channels).map(|c| range(p, c, &hit)).collect();
-                if matches!(p.name.as_str(), "depth" | "position" | "rays" | "cost") {
-                    sidecar = Some(serde_json::json!({
-                        "min": ranges.iter().map(|r| r.0).collect::<Vec<_>>(),
-                        "max": ranges.iter().map(|r| r.1).collect::<Vec<_>>(),
-                        "mapping": "byte = floor(255 * (value - min) / (max - min)); pixels that hit nothing are black",
-                    }));
-                }
-                p.data
-                    .chunks(p.channels)
-                    .zip(&hit)
-                    .map(|(v, &h)| {
-                        let mut out = [0f32; 3];
-                        for (c, o) in out.iter_mut().enumerate() {
-                            let x = v[c.min(p.channels - 1)];
-                            *o = match (h, sidecar.is_some()) {
-                                (false, _) => 0.0,
-                                (true, true) => {
-                                    let (lo, hi) = ranges[c.min(p.channels - 1)];
-                                    if hi > lo { (x - lo) / (hi - lo) } else { 1.0 }
-                                }
-                                (true, false) if c < p.channels => x,
-                                (true, false) => 0.0,
-                            };
-                        }
-                        out
-                    })
-                    .collect()
-            }
-        };
+        let (image, sidecar) = pass_image(p, film, &hit, table, file);
         let path = pass_path(picture, &p.name, &ext);
-        let bytes = Image::from_pixels(w, h, pixels)
-            .encode(format)
-            .map_err(|e| write_err(&path, e))?;
+        let bytes = image.encode(format).map_err(|e| write_err(&path, e))?;
         write_atomically(&path, &bytes, cancel).map_err(|e| write_err(&path, e))?;
         written.push(path);
         if let Some(json) = sidecar {
@@ -228,6 +136,116 @@ pub fn save_pass_images(
         }
     }
     Ok(written)
+}
+
+/// Which pixels' centre ray hit something, from the film's primitive or
+/// depth plane (all of them when it has neither).
+pub(crate) fn hit_mask(film: &Film) -> Vec<bool> {
+    let (w, h) = (film.image().width(), film.image().height());
+    // The pixels whose centre ray hit something, from the primitive or depth plane.
+    match (film.plane("primitive"), film.plane("depth")) {
+        (Some(p), _) => p.data.iter().map(|&v| v != -1.0).collect(),
+        (None, Some(d)) => d.data.iter().map(|&v| v > 0.0).collect(),
+        _ => vec![true; (w * h) as usize],
+    }
+}
+
+/// Plane `p` of `film` as the 8-bit picture `save_pass_images` writes,
+/// with its sidecar or legend (`hit` from [`hit_mask`]).
+pub(crate) fn pass_image(
+    p: &Plane,
+    film: &Film,
+    hit: &[bool],
+    table: &PrimitiveTable,
+    file: Option<&str>,
+) -> (Image, Option<serde_json::Value>) {
+    let mut sidecar = None;
+    let pixels: Vec<[f32; 3]> = match p.name.as_str() {
+        "normal" => p
+            .data
+            .chunks(3)
+            .zip(hit)
+            .map(|(n, &h)| {
+                if h {
+                    [0.5 + 0.5 * n[0], 0.5 + 0.5 * n[1], 0.5 + 0.5 * n[2]]
+                } else {
+                    [0.0; 3]
+                }
+            })
+            .collect(),
+        "why" => {
+            let mut legend = serde_json::Map::new();
+            let pixels = p
+                .data
+                .iter()
+                .map(|&v| {
+                    let kind = Cause::ALL
+                        .get(v as usize)
+                        .copied()
+                        .unwrap_or(Cause::Background);
+                    let c = kind.colour();
+                    let key = format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2]);
+                    legend.entry(key).or_insert_with(
+                        || serde_json::json!({"index": v as u32, "kind": kind.name()}),
+                    );
+                    c.map(|b| b as f32 / 255.0 + 0.5 / 255.0)
+                })
+                .collect();
+            sidecar = Some(serde_json::Value::Object(legend));
+            pixels
+        }
+        "primitive" => {
+            let mut legend = serde_json::Map::new();
+            let pixels = p
+                .data
+                .iter()
+                .map(|&v| {
+                    let c = primitive_colour(v);
+                    if v != -1.0 {
+                        let key = format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2]);
+                        legend
+                            .entry(key)
+                            .or_insert_with(|| legend_entry(v, table, file));
+                    }
+                    c.map(|b| b as f32 / 255.0 + 0.5 / 255.0)
+                })
+                .collect();
+            sidecar = Some(serde_json::Value::Object(legend));
+            pixels
+        }
+        _ => {
+            let ranges: Vec<(f32, f32)> = (0..p.channels).map(|c| range(p, c, hit)).collect();
+            if matches!(p.name.as_str(), "depth" | "position" | "rays" | "cost") {
+                sidecar = Some(serde_json::json!({
+                    "min": ranges.iter().map(|r| r.0).collect::<Vec<_>>(),
+                    "max": ranges.iter().map(|r| r.1).collect::<Vec<_>>(),
+                    "mapping": "byte = floor(255 * (value - min) / (max - min)); pixels that hit nothing are black",
+                }));
+            }
+            p.data
+                .chunks(p.channels)
+                .zip(hit)
+                .map(|(v, &h)| {
+                    let mut out = [0f32; 3];
+                    for (c, o) in out.iter_mut().enumerate() {
+                        let x = v[c.min(p.channels - 1)];
+                        *o = match (h, sidecar.is_some()) {
+                            (false, _) => 0.0,
+                            (true, true) => {
+                                let (lo, hi) = ranges[c.min(p.channels - 1)];
+                                if hi > lo { (x - lo) / (hi - lo) } else { 1.0 }
+                            }
+                            (true, false) if c < p.channels => x,
+                            (true, false) => 0.0,
+                        };
+                    }
+                    out
+                })
+                .collect()
+        }
+    };
+    let (w, h) = (film.image().width(), film.image().height());
+    (Image::from_pixels(w, h, pixels), sidecar)
 }
 
 /// The legend's entry for a primitive plane's value.

@@ -37,6 +37,47 @@ enum Command {
     /// Compare your own render with glint's: a heat map, and the differing
     /// pixels grouped by the primitive glint sees there, worst first.
     Compare(CompareArgs),
+    /// A live page of the scene, rendered again on every save of it or of
+    /// a texture or mesh it uses; hover and click explain pixels.
+    Serve(ServeArgs),
+}
+
+#[derive(Args)]
+struct ServeArgs {
+    /// The scene file.
+    scene: PathBuf,
+    /// The port to listen on (0: a free one).
+    #[arg(long, default_value_t = 0)]
+    port: u16,
+    /// The address to listen on. Anything but a loopback address lets
+    /// anyone who can reach it and knows the token read the scene.
+    #[arg(long, default_value = "127.0.0.1")]
+    bind: std::net::IpAddr,
+    /// Open the page in the desktop's browser (xdg-open or open).
+    #[arg(long)]
+    open: bool,
+    /// Your own render of the scene (.bmp or .png) to compare with, on a slider.
+    #[arg(long)]
+    compare: Option<PathBuf>,
+    /// Image width in pixels, as for `render`.
+    #[arg(long)]
+    width: Option<u32>,
+    /// Image height in pixels, as for `render`.
+    #[arg(long)]
+    height: Option<u32>,
+    /// Worker threads, as for `render`.
+    #[arg(long, value_parser = thread_count)]
+    threads: Option<usize>,
+    /// Seed of the random streams, as for `render`.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Stratified samples per pixel, as for `render` (default: adaptive anti-aliasing).
+    #[arg(long, value_parser = at_least_one::<u32>)]
+    spp: Option<u32>,
+    #[command(flatten)]
+    dialect: DialectArg,
+    #[command(flatten)]
+    photons: PhotonArgs,
 }
 
 #[derive(Args)]
@@ -390,6 +431,7 @@ fn main() -> ExitCode {
         Command::Explain(args) => run_explain(args),
         Command::Check(args) => run_check(args),
         Command::Compare(args) => run_compare(args, &interrupt_flag()),
+        Command::Serve(args) => run_serve(args, &interrupt_flag()),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -405,6 +447,74 @@ fn main() -> ExitCode {
         }
         Err(Failure::Status(code)) => ExitCode::from(code),
     }
+}
+
+fn run_serve(args: ServeArgs, interrupt: &AtomicBool) -> Result<(), Failure> {
+    let options = glint::serve::ServeOptions {
+        scene: args.scene.clone(),
+        bind: args.bind,
+        port: args.port,
+        render: RenderOptions {
+            threads: args.threads,
+            seed: args.seed,
+            spp: args.spp,
+            width: args.width,
+            height: args.height,
+            region: None,
+            aovs: Vec::new(),
+            photons: args.photons.options(),
+        },
+        dialect: args.dialect.dialect,
+        compare: args.compare.clone(),
+    };
+    let server = glint::serve::Server::start(options).map_err(|e| fail(format!("error: {e}")))?;
+    let addr = server.address();
+    if !addr.ip().is_loopback() {
+        say(&format!(
+            "warning: listening on {}: anyone who can reach this address and knows the token \
+             can read the scene and the files it uses (the default, 127.0.0.1, keeps it on this machine)",
+            addr.ip()
+        ));
+    }
+    let url = server.url();
+    // One line on stdout, for people and scripts; the rest on stderr.
+    let mut out = std::io::stdout().lock();
+    let _ = writeln!(out, "{url}");
+    let _ = out.flush();
+    drop(out);
+    let host = std::fs::read_to_string("/proc/sys/kernel/hostname")
+        .map(|h| h.trim().to_string())
+        .ok()
+        .filter(|h| !h.is_empty())
+        .unwrap_or_else(|| "THIS-MACHINE".to_string());
+    // The tunnel's far end: the address listened on (loopback for 0.0.0.0 or ::).
+    let target = if addr.ip().is_unspecified() {
+        "127.0.0.1".to_string()
+    } else {
+        match addr.ip() {
+            std::net::IpAddr::V6(ip) => format!("[{ip}]"),
+            ip => ip.to_string(),
+        }
+    };
+    say(&format!(
+        "from another machine: ssh -L {port}:{target}:{port} {host}   then open http://127.0.0.1:{port}/?token={token}",
+        port = addr.port(),
+        token = server.token()
+    ));
+    if args.open {
+        for opener in ["xdg-open", "open"] {
+            let started = std::process::Command::new(opener)
+                .arg(&url)
+                .stdout(std::process::Stdio::null())
+                .stderr(std::process::Stdio::null())
+                .spawn();
+            if started.is_ok() {
+                break;
+            }
+        }
+    }
+    server.serve_until(interrupt);
+    Err(Failure::Interrupted)
 }
 
 fn run_compare(args: CompareArgs, interrupt: &AtomicBool) -> Result<(), Failure> {

@@ -16,6 +16,8 @@ pub(crate) struct Assets<'p> {
     by_path: HashMap<PathBuf, u32>,
     /// Where each file was found, for verbose output.
     pub notes: Vec<String>,
+    /// Every file found (textures, meshes, their MTL files), in the order read.
+    pub files: Vec<PathBuf>,
 }
 
 /// Why a file named in a scene cannot be used.
@@ -33,6 +35,7 @@ impl<'p> Assets<'p> {
             base,
             by_path: HashMap::new(),
             notes: Vec::new(),
+            files: Vec::new(),
         }
     }
 
@@ -117,6 +120,9 @@ impl<'p> Assets<'p> {
             }
         };
         let key = std::fs::canonicalize(&path).unwrap_or_else(|_| path.clone());
+        if !self.files.contains(&path) {
+            self.files.push(path.clone());
+        }
         if let Some(&i) = self.by_path.get(&key) {
             return Some(i);
         }
@@ -177,15 +183,26 @@ impl<'p> Assets<'p> {
                 return None;
             }
         };
+        if !self.files.contains(&path) {
+            self.files.push(path.clone());
+        }
+        let mtl_files = std::cell::RefCell::new(Vec::new());
         let read_mtl = |file: &str| -> Result<Vec<u8>, String> {
             let (p, _) = self
                 .resolve(file)
                 .map_err(|why| Self::unusable_text("material", file, &why))?;
+            mtl_files.borrow_mut().push(p.clone());
             let f = open_regular(&p).map_err(|e| format!("cannot open `{}`: {e}", p.display()))?;
             read_bounded(f, Limits::DEFAULT)
                 .map_err(|e| format!("cannot read `{}`: {e}", p.display()))
         };
-        match load_placed(&path, at, Some(&read_mtl)) {
+        let loaded = load_placed(&path, at, Some(&read_mtl));
+        for p in mtl_files.into_inner() {
+            if !self.files.contains(&p) {
+                self.files.push(p);
+            }
+        }
+        match loaded {
             Ok(loaded) => {
                 self.notes.push(format!(
                     "line {}: mesh `{name}` found {found}: {} ({} triangles)",

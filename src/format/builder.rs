@@ -82,6 +82,7 @@ impl<'p> Builder<'p> {
         for note in self.assets.notes {
             scene.add_note(note);
         }
+        scene.set_files(self.assets.files);
         scene.set_dialect(choice);
         scene
     }

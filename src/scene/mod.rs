@@ -52,6 +52,8 @@ pub struct Scene {
     objects: Vec<Object>,
     warnings: Vec<Diagnostic>,
     notes: Vec<String>,
+    /// The files besides the scene file it read (textures, meshes, MTL files).
+    files: Vec<PathBuf>,
     /// The 1-based line of each primitive block's header, by block index (0: unknown).
     block_lines: Vec<u32>,
     /// The 1-based line of each light's header, by light index (0: unknown).
@@ -73,6 +75,7 @@ impl Scene {
             objects: Vec::new(),
             warnings: Vec::new(),
             notes: Vec::new(),
+            files: Vec::new(),
             block_lines: Vec::new(),
             light_lines: Vec::new(),
             dialect: DialectChoice::default(),
@@ -175,6 +178,17 @@ impl Scene {
     /// Sets the background.
     pub fn set_background(&mut self, background: Background) {
         self.background = background;
+    }
+
+    /// The files besides the scene file it read: textures, meshes and their
+    /// MTL files, as found (next to the scene file or in the working directory).
+    pub fn files(&self) -> &[PathBuf] {
+        &self.files
+    }
+
+    /// Sets the files besides the scene file that it read.
+    pub(crate) fn set_files(&mut self, files: Vec<PathBuf>) {
+        self.files = files;
     }
 
     /// Sets the file the scene was read from.
