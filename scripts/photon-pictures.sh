@@ -19,8 +19,8 @@ $glint render examples/photons/dof.txt -o "$out/dof.png"
 shared=${GLINT_SCENES:-../shared/scenes}/framework
 if [ -d "$shared" ]; then
     for scene in scene1 scene2; do
-        $glint render "$shared/$scene.txt" --width 640 --photons pm --emit 200000 -o "$out/$scene-pm.png"
-        $glint render "$shared/$scene.txt" --width 640 --photons ppm --emit 100000 --iterations 16 -o "$out/$scene-ppm.png"
+        $glint render "$shared/$scene.txt" --width 320 --photons pm --emit 100000 -o "$out/$scene-pm.png"
+        $glint render "$shared/$scene.txt" --width 320 --photons ppm --emit 100000 --iterations 8 -o "$out/$scene-ppm.png"
     done
 else
     echo "photon-pictures: SKIPPED scene1 and scene2 (no shared corpus at $shared)"

@@ -170,3 +170,45 @@ fn explain_shows_the_photon_term_and_ends_in_the_rendered_bytes() {
         "{with_photons} of 5 pixels show a photon term"
     );
 }
+
+#[test]
+fn the_photons_pass_is_the_term_explain_shows_and_ppms_estimate() {
+    let r = renderer(GLASS);
+    let mut o = options(PhotonMode::Pm, 2);
+    o.spp = Some(1);
+    o.photons.emit = Some(200_000);
+    o.aovs = vec![glint::Aov::Photons];
+    let film = r.render(&o).expect("renders");
+    let plane = film.plane("photons").expect("a photons plane");
+    let mut lit = 0;
+    for (x, y) in [(20, 25), (5, 28), (35, 5), (12, 20), (30, 27)] {
+        let at = ((y * 40 + x) * 3) as usize;
+        let e = r.explain(&o, x, y).expect("explains");
+        let want = e.samples[0]
+            .photons
+            .as_ref()
+            .map_or([0.0; 3], |p| p.term.as_vec3().to_array());
+        assert_eq!(&plane.data[at..at + 3], &want, "pixel ({x}, {y})");
+        lit += usize::from(want[0] > 0.0);
+    }
+    assert!(lit >= 3, "{lit} of 5 pixels have photon light");
+    // PPM: the pass is each pixel's estimate, and the picture holds it.
+    o.photons.mode = Some(PhotonMode::Ppm);
+    let film = r.render(&o).expect("renders");
+    let plane = film.plane("photons").expect("a photons plane");
+    let image = film.image();
+    let mut nonzero = 0;
+    for y in 0..30 {
+        for x in 0..40 {
+            let at = ((y * 40 + x) * 3) as usize;
+            let px = image.pixel(x, y);
+            for (c, &p) in px.iter().enumerate() {
+                let term = plane.data[at + c];
+                assert!(term >= 0.0);
+                assert!(p + 1e-6 >= term.min(1.0), "({x}, {y})");
+            }
+            nonzero += usize::from(plane.data[at] > 0.0);
+        }
+    }
+    assert!(nonzero > 100, "{nonzero} pixels with a photon estimate");
+}

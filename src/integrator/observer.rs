@@ -267,6 +267,12 @@ impl<A: PathObserver, B: PathObserver> PathObserver for (A, B) {
     }
 
     #[inline(always)]
+    fn photons(&mut self, gathered: &Gathered, term: DVec3) {
+        self.0.photons(gathered, term);
+        self.1.photons(gathered, term);
+    }
+
+    #[inline(always)]
     fn shaded(&mut self, sum: DVec3) {
         self.0.shaded(sum);
         self.1.shaded(sum);

@@ -45,11 +45,14 @@ pub enum Aov {
     /// primitives tested (the leaves', the unbounded ones, planes, tested
     /// against every ray, and an any-hit query's hinted blocker).
     Cost,
+    /// The photon term at the centre ray's hit, RGB: what PM's estimate
+    /// adds there (PPM and SPPM: each pixel's photon estimate).
+    Photons,
 }
 
 impl Aov {
     /// Every pass, in the order they are documented (`light:N` as light 0).
-    pub const ALL: [Aov; 12] = [
+    pub const ALL: [Aov; 13] = [
         Aov::Normal,
         Aov::Depth,
         Aov::Position,
@@ -62,6 +65,7 @@ impl Aov {
         Aov::Why,
         Aov::Clamp,
         Aov::Cost,
+        Aov::Photons,
     ];
 
     /// Its name, as `--aov` takes it and as the film's plane is called.
@@ -79,13 +83,19 @@ impl Aov {
             Aov::Why => "why".into(),
             Aov::Clamp => "clamp".into(),
             Aov::Cost => "cost".into(),
+            Aov::Photons => "photons".into(),
         }
     }
 
     /// Values per pixel.
     pub fn channels(self) -> usize {
         match self {
-            Aov::Normal | Aov::Position | Aov::Albedo | Aov::Light(_) | Aov::Clamp => 3,
+            Aov::Normal
+            | Aov::Position
+            | Aov::Albedo
+            | Aov::Light(_)
+            | Aov::Clamp
+            | Aov::Photons => 3,
             Aov::Uv | Aov::Shade | Aov::Cost => 2,
             Aov::Depth | Aov::Primitive | Aov::Rays | Aov::Why => 1,
         }
@@ -93,7 +103,10 @@ impl Aov {
 
     /// Whether it comes from the camera hit's shading (tallied by pass 1).
     pub(crate) fn shaded(self) -> bool {
-        matches!(self, Aov::Light(_) | Aov::Shade | Aov::Why | Aov::Clamp)
+        matches!(
+            self,
+            Aov::Light(_) | Aov::Shade | Aov::Why | Aov::Clamp | Aov::Photons
+        )
     }
 
     /// Whether the render counts it as it traces (rays, queries).
@@ -190,7 +203,8 @@ pub(crate) fn first_hit_planes(
                         | Aov::Shade
                         | Aov::Why
                         | Aov::Clamp
-                        | Aov::Cost => {}
+                        | Aov::Cost
+                        | Aov::Photons => {}
                         Aov::Albedo => {
                             let k = albedo(scene, &scene.material_of(object), s.uv);
                             put(out, &k.to_array());

@@ -368,6 +368,7 @@ impl Renderer {
                 max: LIGHT_PASSES_MAX,
             }
         })?;
+        let mut photon_term = None;
         let done = if plan.mode.progressive() {
             let p = photons::Progressive {
                 frame: &frame,
@@ -386,7 +387,7 @@ impl Renderer {
                     checkpoint(i, &Film::new((w, h), region, image));
                 }
             };
-            let (pixels, rays, stats) = schedule::with_threads(options.threads, || {
+            let done = schedule::with_threads(options.threads, || {
                 photons::progressive(&p, region, spp, &watch, &mut each)
             })
             .map_err(|e| match e {
@@ -395,14 +396,34 @@ impl Renderer {
                     RenderError::HitPoints { found, max }
                 }
             })?;
-            photon_stats = stats;
+            let (pixels, rays) = (done.pixels, done.rays);
+            photon_stats = done.stats;
+            photon_term = Some(done.photons);
+            // The passes of the ray-traced part, from one render of it.
+            let keep = Keep {
+                rays: count,
+                shading: shading.as_ref(),
+                cost: options.aovs.contains(&Aov::Cost),
+            };
+            let traced = if count || keep.cost || shading.is_some() {
+                let done = schedule::with_threads(options.threads, || {
+                    render_region(&frame, region, spp, keep, &watch)
+                });
+                Some(done.ok_or(RenderError::Cancelled)?)
+            } else {
+                None
+            };
+            let (rays_per_pixel, shading, costs) = match traced {
+                Some(t) => (t.rays_per_pixel, t.shading, t.costs),
+                None => (None, None, None),
+            };
             passes::Rendered {
                 pixels,
                 rays,
                 refined: 0,
-                rays_per_pixel: None,
-                shading: None,
-                costs: None,
+                rays_per_pixel,
+                shading,
+                costs,
             }
         } else {
             let done = schedule::with_threads(options.threads, || {
@@ -433,6 +454,11 @@ impl Renderer {
         };
         if let (Some(s), Some(values)) = (&shading, &done.shading) {
             planes.extend(aov::split_planes(values, s.aovs()));
+        }
+        if let Some(term) = photon_term {
+            // PPM's and SPPM's estimate, not the ray tracer's (zero) term.
+            planes.retain(|(a, _)| *a != Aov::Photons);
+            planes.push((Aov::Photons, term));
         }
         if let Some(counts) = done.rays_per_pixel {
             planes.push((Aov::Rays, counts));

@@ -78,6 +78,18 @@ pub(crate) struct Progressive<'a> {
     pub checkpoint: u64,
 }
 
+/// What PPM's and SPPM's iterations give.
+pub(crate) struct Progressed {
+    /// The region's colours.
+    pub pixels: Vec<[f32; 3]>,
+    /// Each pixel's photon estimate (the `photons` pass), RGB.
+    pub photons: Vec<f32>,
+    /// Rays the eye passes traced.
+    pub rays: RayCounts,
+    /// The photon passes' figures.
+    pub stats: PhotonStats,
+}
+
 /// The pixels of `region` after PPM's or SPPM's iterations, the rays the
 /// eye passes traced and the figures; after a cancel, those of the last
 /// complete iteration (an error if none completed). `each(i, pixels)` is
@@ -88,7 +100,7 @@ pub(crate) fn progressive(
     spp: Option<u32>,
     watch: &Watch,
     each: &mut dyn FnMut(u64, &[[f32; 3]]),
-) -> Result<(Vec<[f32; 3]>, RayCounts, PhotonStats), Unfinished> {
+) -> Result<Progressed, Unfinished> {
     let model = *p.frame.integrator.model();
     let plan = p.plan;
     let total = plan.iterations;
@@ -209,7 +221,22 @@ pub(crate) fn progressive(
         }
         None => return Err(Unfinished::Cancelled),
     };
-    Ok((picture, rays, stats))
+    // The photons pass: each pixel's photon estimate alone.
+    let mut term = vec![0f32; pixels * 3];
+    for h in &points {
+        let v = h.radiance(stats.iterations).as_vec3();
+        let at = h.pixel as usize * 3;
+        term[at..at + 3]
+            .iter_mut()
+            .zip(v.to_array())
+            .for_each(|(t, v)| *t += v);
+    }
+    Ok(Progressed {
+        pixels: picture,
+        photons: term,
+        rays,
+        stats,
+    })
 }
 
 /// The picture after `passes` passes: clamp(direct + Σ the pixel's hit

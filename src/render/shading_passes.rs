@@ -8,6 +8,7 @@
 use super::aov::{Aov, albedo};
 use super::verdict::{Cause, FirstHit, LightCounts, kind};
 use crate::geometry::{Hit, Ray, Shape};
+use crate::integrator::photons::Gathered;
 use crate::integrator::{LightSeen, NoObserver, PathObserver, RayKind, SurfaceSeen};
 use crate::scene::{Material, Origin, Scene};
 use glam::{DVec2, DVec3};
@@ -42,6 +43,8 @@ pub(crate) struct LightTally {
     shade_min: f64,
     /// The camera ray's sum before the clamp.
     unclamped: Option<DVec3>,
+    /// The photon term at the camera ray's hit (PM).
+    photons: DVec3,
 }
 
 impl LightTally {
@@ -139,6 +142,13 @@ impl PathObserver for LightTally {
     }
 
     #[inline(always)]
+    fn photons(&mut self, _: &Gathered, term: DVec3) {
+        if self.at_camera() {
+            self.photons = term;
+        }
+    }
+
+    #[inline(always)]
     fn done(&mut self, _: DVec3, _: DVec3) {
         self.open = self.open.saturating_sub(1);
     }
@@ -211,6 +221,7 @@ impl<'a> ShadingPasses<'a> {
                         .map_or(DVec3::ZERO, |u| (u - DVec3::ONE).max(DVec3::ZERO));
                     put(out, over);
                 }
+                Aov::Photons => put(out, t.photons),
                 _ => {}
             }
         }
