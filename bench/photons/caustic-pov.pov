@@ -9,7 +9,7 @@ global_settings {
   #if (COUNT > 0) photons { count COUNT autostop 0 jitter 0.4 } #end
 }
 camera { location <0, 3.2, -7> look_at <0, 0.4, 0> right x*4/3 angle 48 }
-light_source { <1.5, 5, -0.5> color rgb <1, 1, 1> * 1.2
+light_source { <1.5, 5, -0.5> color rgb <1, 1, 1> * 0.3
   photons { refraction on reflection off } }
 plane { y, 0 pigment { color rgb <0.85, 0.8, 0.7> } finish { diffuse 1 ambient 0 } }
 sphere { <0, 1, 0>, 1
