@@ -29,6 +29,11 @@ fn every_request_needs_the_token_and_only_the_scenes_files_are_served() {
             &format!("GET {path} HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n"),
         )
     };
+    // A token that differs from the real one in its first character (a
+    // fixed "0" would be the real token one time in 16).
+    let first = if s.token.starts_with('0') { '1' } else { '0' };
+    let wrong = format!("{first}{}", &s.token[1..]);
+    assert_ne!(wrong, s.token);
     for path in [
         "/",
         "/api/state",
@@ -39,7 +44,7 @@ fn every_request_needs_the_token_and_only_the_scenes_files_are_served() {
     ] {
         assert_eq!(raw(path).status, 403, "{path} without the token");
         assert_eq!(
-            raw(&format!("{path}?token=0{}", &s.token[1..])).status,
+            raw(&format!("{path}?token={wrong}")).status,
             403,
             "{path}, wrong token"
         );

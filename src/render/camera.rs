@@ -41,15 +41,21 @@ fn right_of(n: DVec3) -> DVec3 {
     }
 }
 
+/// The unit right and up vectors of `camera` drawn through `lens`.
+pub(crate) fn basis(camera: &Camera, lens: Lens) -> (DVec3, DVec3) {
+    let n = camera.dir;
+    let right = match lens {
+        Lens::Corner => camera.right.unwrap_or_else(|| right_of(n)),
+        Lens::Framework | Lens::Spanned => right_of(n),
+    };
+    (right, right.cross(n))
+}
+
 impl CameraRays {
     /// Sets up the basis of `lens` for a camera rendering `width` × `height` pixels.
     pub fn new(camera: &Camera, width: u32, height: u32, lens: Lens) -> Self {
         let n = camera.dir;
-        let right = match lens {
-            Lens::Corner => camera.right.unwrap_or_else(|| right_of(n)),
-            Lens::Framework | Lens::Spanned => right_of(n),
-        };
-        let up = right.cross(n);
+        let (right, up) = basis(camera, lens);
         let dof = &camera.dof;
         let thin_lens = (dof.aperture > 0.0).then(|| ThinLens {
             right: right * dof.aperture,

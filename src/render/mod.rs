@@ -16,6 +16,7 @@ mod shading_passes;
 mod verdict;
 
 pub use aov::Aov;
+pub(crate) use camera::basis;
 pub use explain::{Explanation, Sampling};
 pub use film::{Film, Plane, Region};
 pub use photons::PhotonStats;

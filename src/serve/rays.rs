@@ -29,25 +29,11 @@ pub(crate) struct Projection {
     height: f64,
 }
 
-/// unit(N × ẑ), or x̂ when N is vertical: the framework's right-hand direction.
-fn right_of(n: DVec3) -> DVec3 {
-    let r = n.cross(DVec3::Z);
-    if r.length_squared() < 1e-24 {
-        DVec3::X
-    } else {
-        r.normalize()
-    }
-}
-
 impl Projection {
     /// The projection of `camera`, drawn through `lens`, rendering `width` × `height` pixels.
     pub fn new(camera: &Camera, lens: Lens, width: u32, height: u32) -> Projection {
         let n = camera.dir;
-        let right = match lens {
-            Lens::Corner => camera.right.unwrap_or_else(|| right_of(n)),
-            Lens::Framework | Lens::Spanned => right_of(n),
-        };
-        let up = right.cross(n);
+        let (right, up) = crate::render::basis(camera, lens);
         let basis = DMat3::from_cols(n, up * (camera.lens_h / 2.0), right * (camera.lens_w / 2.0));
         Projection {
             origin: camera.origin,
@@ -201,11 +187,8 @@ mod tests {
     /// A camera ray's direction for pixel (x, y) of a `w` × `h` image, as
     /// render/camera.rs forms it for each lens (i rows from the bottom).
     fn ray(c: &Camera, lens: Lens, w: f64, h: f64, x: f64, y: f64) -> DVec3 {
-        let right = match lens {
-            Lens::Corner => c.right.unwrap_or_else(|| right_of(c.dir)),
-            _ => right_of(c.dir),
-        };
-        let (dx, dy) = (right * c.lens_w / 2.0, right.cross(c.dir) * c.lens_h / 2.0);
+        let (right, up) = crate::render::basis(c, lens);
+        let (dx, dy) = (right * c.lens_w / 2.0, up * c.lens_h / 2.0);
         let (i, j) = (h - y, x);
         let span = |k: f64, n: f64| 2.0 * ((k - 0.5) / (n - 1.0).max(1.0) - 0.5);
         match lens {
