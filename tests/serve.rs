@@ -136,7 +136,16 @@ fn oversized_and_odd_requests_are_refused_and_the_server_goes_on() {
             .into_bytes();
     big.extend(std::iter::repeat_n(b'z', 1 << 20));
     let r = request_bytes(&s.host, &big);
-    assert!(r.status == 413 || r.status == 431, "{}", r.status);
+    // Refused: with a status, or, when the server's close overtakes the
+    // rest of the body on a loaded machine, by a reset before the client
+    // read the answer (the requests below check the server goes on).
+    let reset = r.status == 0 && r.head.to_ascii_lowercase().contains("reset");
+    assert!(
+        r.status == 413 || r.status == 431 || reset,
+        "{} {}",
+        r.status,
+        r.head
+    );
     for q in [
         "x=a&y=1",
         "x=1",
