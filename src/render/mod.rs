@@ -346,16 +346,7 @@ impl Renderer {
                 frame_h: h,
             });
         }
-        let (plan, _) = Plan::of(&self.scene, &options.photons);
-        let model = Model::of(self.scene.dialect().dialect, self.scene.camera());
-        let (map, mut photon_stats) = if plan.mode == PhotonMode::Pm {
-            let (map, stats) = schedule::with_threads(options.threads, || {
-                photons::photon_map(&self.scene, &self.accel, &model, &plan, options.seed)
-            });
-            (Some(map), stats)
-        } else {
-            (None, PhotonStats::default())
-        };
+        let (plan, map, mut photon_stats) = self.photon_pass(options);
         let tracing = self.photon_shading(&plan, map.as_ref());
         let (spp, frame) = self.sampled_frame(w, h, options, tracing);
         let watch = Watch {
@@ -509,13 +500,7 @@ impl Renderer {
         }
         // PM's map as the render traces it (PPM's and SPPM's iterations are
         // not repeated: their pixels' direct part is explained).
-        let (plan, _) = Plan::of(&self.scene, &options.photons);
-        let model = Model::of(self.scene.dialect().dialect, self.scene.camera());
-        let map = (plan.mode == PhotonMode::Pm).then(|| {
-            schedule::with_threads(options.threads, || {
-                photons::photon_map(&self.scene, &self.accel, &model, &plan, options.seed).0
-            })
-        });
+        let (plan, map, _) = self.photon_pass(options);
         let shading = self.photon_shading(&plan, map.as_ref());
         let (spp, frame) = self.sampled_frame(w, h, options, shading);
         Ok(explain::explain_pixel(
@@ -573,6 +558,20 @@ impl Renderer {
             None if dof.aperture > 0.0 => (Some(dof.samples.max(1)), frame.centred()),
             spp => (spp, frame),
         }
+    }
+
+    /// The photon plan `options` give and, under PM, its photon map
+    /// (traced as the render traces it) with the pass's figures.
+    fn photon_pass(&self, options: &RenderOptions) -> (Plan, Option<PhotonMap>, PhotonStats) {
+        let (plan, _) = Plan::of(&self.scene, &options.photons);
+        if plan.mode != PhotonMode::Pm {
+            return (plan, None, PhotonStats::default());
+        }
+        let model = Model::of(self.scene.dialect().dialect, self.scene.camera());
+        let (map, stats) = schedule::with_threads(options.threads, || {
+            photons::photon_map(&self.scene, &self.accel, &model, &plan, options.seed)
+        });
+        (plan, Some(map), stats)
     }
 
     /// How the ray tracer shades under `plan`, gathering from `map` (PM).

@@ -110,18 +110,12 @@ pub(crate) fn work_loop(shared: &Shared, config: &Config, watch: &Mutex<Watch>, 
 
 /// A diagnostic for a render that panicked.
 fn internal_error(scene: &Path) -> Diagnostic {
-    Diagnostic {
-        severity: Severity::Error,
-        message: "glint failed while rendering this version (a bug in glint: please report it); \
-                  the last good picture stays"
+    file_error(
+        scene,
+        "glint failed while rendering this version (a bug in glint: please report it); \
+         the last good picture stays"
             .to_string(),
-        file: scene.display().to_string(),
-        line: 0,
-        column: 0,
-        len: 0,
-        source_line: String::new(),
-        help: None,
-    }
+    )
 }
 
 /// Rays the coarse preview may take, by [`Renderer::estimate`]: about
@@ -424,9 +418,14 @@ fn passes_film(
 
 /// A render that could not start (a size out of range), as a diagnostic.
 fn render_error(scene: &Path, e: &RenderError) -> Diagnostic {
+    file_error(scene, format!("cannot render: {e}"))
+}
+
+/// An error about the scene file as a whole (no line), saying `message`.
+fn file_error(scene: &Path, message: String) -> Diagnostic {
     Diagnostic {
         severity: Severity::Error,
-        message: format!("cannot render: {e}"),
+        message,
         file: scene.display().to_string(),
         line: 0,
         column: 0,
