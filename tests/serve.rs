@@ -167,6 +167,50 @@ fn oversized_and_odd_requests_are_refused_and_the_server_goes_on() {
 }
 
 #[test]
+fn no_connection_is_held_open_after_its_answer() {
+    // A connection the server kept open (keep-alive, a slow head) would
+    // hold one of tiny_http's pool threads, behind which its pool can
+    // queue new connections for as long as it stays open (CI once saw 12
+    // requests wait 20 s that way): each is answered and closed instead.
+    let dir = temp_dir("close");
+    let scene = dir.join("scene.txt");
+    save(&scene, &scene_text(32, 24, "1 0 0"));
+    let s = Served::start(&scene, &["--spp", "1"]);
+    s.wait_state(WAIT, |st| final_of(st, 1));
+    for connection in [
+        "",
+        "Connection: keep-alive\r\n",
+        "Connection: Keep-Alive, Upgrade\r\n",
+    ] {
+        let mut c = std::net::TcpStream::connect(&s.host).expect("connect");
+        c.set_read_timeout(Some(Duration::from_secs(10)))
+            .expect("timeout");
+        let rq = format!(
+            "GET {} HTTP/1.1\r\nHost: x\r\n{connection}\r\n",
+            s.with_token("/api/state")
+        );
+        std::io::Write::write_all(&mut c, rq.as_bytes()).expect("send");
+        let mut raw = Vec::new();
+        let read = std::io::Read::read_to_end(&mut c, &mut raw);
+        let text = String::from_utf8_lossy(&raw).to_ascii_lowercase();
+        assert!(
+            read.is_ok(),
+            "{connection:?}: not closed after its answer: {read:?} {text}"
+        );
+        assert!(text.starts_with("http/1.1 200"), "{connection:?}: {text}");
+        assert!(
+            text.contains("\r\nconnection: close\r\n"),
+            "{connection:?}: {text}"
+        );
+    }
+    // A head that never ends is answered 408 (after the gate's 10 s).
+    let r = request(&s.host, "GET /api/state?token=x HTTP/1.1\r\nHost: x\r\n");
+    assert_eq!(r.status, 408, "{}", r.head);
+    assert_eq!(s.get("/api/state").status, 200, "the server goes on");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn many_clients_at_once_are_answered() {
     let dir = temp_dir("many");
     let scene = dir.join("scene.txt");

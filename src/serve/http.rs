@@ -1,6 +1,7 @@
 //! The HTTP side: a fixed pool of threads answers the requests that
-//! tiny_http reads (behind the gate, which bounds connections). Every request is checked before it is routed: the
-//! number of connections, the size of the request, the method, a plain
+//! tiny_http reads (behind the gate, which bounds connections and hands
+//! on one complete request head a connection). Every request is checked
+//! before it is routed: the size of the request, the method, a plain
 //! path, and the token; a handler that panics answers 500 and the server
 //! goes on. Event streams get a thread each, up to a bound.
 
@@ -181,8 +182,7 @@ fn handle(app: &Arc<App>, rq: tiny_http::Request) {
     );
     let (path, query) = match checked {
         Ok(c) => c,
-        // A body is not read: the connection is closed instead.
-        Err(reply) => return respond(rq, reply, body),
+        Err(reply) => return respond(rq, reply),
     };
     let shared = app.shared.clone();
     let token = app.token.clone();
@@ -192,7 +192,7 @@ fn handle(app: &Arc<App>, rq: tiny_http::Request) {
     .unwrap_or_else(|_| text(500, "internal error (a bug in glint); the server goes on"));
     match reply {
         Reply::Events => stream(app, rq),
-        reply => respond(rq, reply, false),
+        reply => respond(rq, reply),
     }
 }
 
@@ -201,8 +201,8 @@ fn header(field: &str, value: &str) -> Option<tiny_http::Header> {
     tiny_http::Header::from_bytes(field.as_bytes(), value.as_bytes()).ok()
 }
 
-/// Sends `reply`; `close` asks the client to close the connection.
-fn respond(rq: tiny_http::Request, reply: Reply, close: bool) {
+/// Sends `reply` (the gate adds `Connection: close`: tiny_http drops it).
+fn respond(rq: tiny_http::Request, reply: Reply) {
     let Reply::Done(status, kind, body) = reply else {
         return;
     };
@@ -229,9 +229,6 @@ fn respond(rq: tiny_http::Request, reply: Reply, close: bool) {
             response.add_header(h);
         }
     }
-    if close && let Some(h) = header("Connection", "close") {
-        response.add_header(h);
-    }
     // A client that went away is no error of ours.
     let _ = rq.respond(response);
 }
@@ -241,7 +238,7 @@ fn respond(rq: tiny_http::Request, reply: Reply, close: bool) {
 fn stream(app: &Arc<App>, rq: tiny_http::Request) {
     if app.streams.fetch_add(1, Ordering::SeqCst) >= MAX_STREAMS {
         app.streams.fetch_sub(1, Ordering::SeqCst);
-        return respond(rq, text(503, "too many event streams"), true);
+        return respond(rq, text(503, "too many event streams"));
     }
     let app = app.clone();
     let spawned = std::thread::Builder::new()
@@ -272,7 +269,7 @@ fn run_stream(app: &App, rq: tiny_http::Request) {
     let mut w = rq.into_writer();
     let mut first = String::from(
         "HTTP/1.1 200 OK\r\nContent-Type: text/event-stream\r\nCache-Control: no-store\r\n\
-         Connection: close\r\nX-Content-Type-Options: nosniff\r\n\r\nretry: 500\n\n",
+         X-Content-Type-Options: nosniff\r\n\r\nretry: 500\n\n",
     );
     first.push_str(&format("state", &state));
     if let Some(f) = frame {
