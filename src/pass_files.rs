@@ -175,6 +175,7 @@ pub(crate) fn pass_image(
             .collect(),
         "why" => {
             let mut legend = serde_json::Map::new();
+            let mut seen = Seen::default();
             let pixels = p
                 .data
                 .iter()
@@ -184,10 +185,11 @@ pub(crate) fn pass_image(
                         .copied()
                         .unwrap_or(Cause::Background);
                     let c = kind.colour();
-                    let key = format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2]);
-                    legend.entry(key).or_insert_with(
-                        || serde_json::json!({"index": v as u32, "kind": kind.name()}),
-                    );
+                    if seen.first(v) {
+                        legend.entry(colour_key(c)).or_insert_with(
+                            || serde_json::json!({"index": v as u32, "kind": kind.name()}),
+                        );
+                    }
                     c.map(|b| b as f32 / 255.0 + 0.5 / 255.0)
                 })
                 .collect();
@@ -196,15 +198,15 @@ pub(crate) fn pass_image(
         }
         "primitive" => {
             let mut legend = serde_json::Map::new();
+            let mut seen = Seen::default();
             let pixels = p
                 .data
                 .iter()
                 .map(|&v| {
                     let c = primitive_colour(v);
-                    if v != -1.0 {
-                        let key = format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2]);
+                    if v != -1.0 && seen.first(v) {
                         legend
-                            .entry(key)
+                            .entry(colour_key(c))
                             .or_insert_with(|| legend_entry(v, table, file));
                     }
                     c.map(|b| b as f32 / 255.0 + 0.5 / 255.0)
@@ -246,6 +248,31 @@ pub(crate) fn pass_image(
     };
     let (w, h) = (film.image().width(), film.image().height());
     (Image::from_pixels(w, h, pixels), sidecar)
+}
+
+/// A legend's key: the colour as `#rrggbb`.
+fn colour_key(c: [u8; 3]) -> String {
+    format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2])
+}
+
+/// The values of a plane met so far, so that each is put in the legend
+/// once (neighbouring pixels mostly repeat the last one).
+#[derive(Default)]
+struct Seen {
+    last: Option<u32>,
+    all: std::collections::HashSet<u32>,
+}
+
+impl Seen {
+    /// Whether `v` is met for the first time.
+    fn first(&mut self, v: f32) -> bool {
+        let bits = v.to_bits();
+        if self.last == Some(bits) {
+            return false;
+        }
+        self.last = Some(bits);
+        self.all.insert(bits)
+    }
 }
 
 /// The legend's entry for a primitive plane's value.
