@@ -33,6 +33,9 @@ Usage: scripts/photon-povray.py [--threshold 0.40] [--reps 5] [--png FILE]
 references are cached in target/photon-povray/ (about 95 CPU-seconds on
 the first run); --fresh renders them again. --png FILE writes a side by
 side of the two references (docs/photons/povray-side-by-side.png).
+--gather N sets POV-Ray's `gather 20, N`, the most photons one estimate
+uses (POV-Ray's default, 100, bounds how far its noise falls however many
+photons it shoots).
 """
 import argparse
 import math
@@ -57,6 +60,7 @@ GLINT_EMIT = 100_000            # photons emitted per PPM iteration
 GLINT_LEVELS = [1, 2, 3, 4, 6, 8, 12, 16]  # PPM iterations
 POV_LEVELS = [10_000, 20_000, 30_000, 50_000, 100_000, 150_000, 200_000, 300_000]  # counts
 REF_FACTOR = 100                # reference = 100 x the largest level
+POV_GATHER = 100                # POV-Ray's most photons an estimate (its default; --gather)
 
 # The scene's geometry in POV-Ray's coordinates (y up; glint's file is the
 # same with y and z swapped): keep in step with bench/photons/.
@@ -194,7 +198,7 @@ def povray_args(count, out, threads=1):
     # display; -GA: fewer console streams; +FH: Radiance .hdr, linear
     # floats, not clamped (gamma settings do not apply to it).
     return ["povray", "+I" + POV, "+O" + out, "+FH", f"+W{W}", f"+H{H}", "-D", "-A",
-            "-GA", f"+WT{threads}", f"Declare=COUNT={count}"]
+            "-GA", f"+WT{threads}", f"Declare=COUNT={count}", f"Declare=GATHER={POV_GATHER}"]
 
 
 def run(args, out):
@@ -212,7 +216,8 @@ def run(args, out):
 
 def reference(name, args_of, level, fresh):
     """The cached reference picture, rendered (two threads) when missing."""
-    path = os.path.join(CACHE, f"{name}-ref-{level}.hdr")
+    tag = f"-gather{POV_GATHER}" if name == "povray" and POV_GATHER != 100 else ""
+    path = os.path.join(CACHE, f"{name}-ref-{level}{tag}.hdr")
     if fresh or not os.path.exists(path):
         print(f"rendering {name}'s reference ({level}) ...", flush=True)
         wall, cpu, _ = run(args_of(level, path, 2), path)
@@ -268,7 +273,12 @@ def main():
     ap.add_argument("--reps", type=int, default=5, help="timed repetitions (default 5)")
     ap.add_argument("--fresh", action="store_true", help="render the references again")
     ap.add_argument("--png", help="write a side by side of the two references")
+    ap.add_argument("--gather", type=int, default=100,
+                    help="POV-Ray's `gather 20, N`: the most photons one estimate uses "
+                         "(default 100, POV-Ray's own)")
     a = ap.parse_args()
+    global POV_GATHER
+    POV_GATHER = a.gather
     os.makedirs(CACHE, exist_ok=True)
     print(f"load average before: {os.getloadavg()[0]:.1f} (on {os.cpu_count()} cores)")
 
@@ -306,7 +316,8 @@ def main():
            for k, v in times.items()}
     print(f"\ncaustic region: {len(region)} pixels (the ball's shadow on the floor); "
           f"references: glint {REF_FACTOR * GLINT_LEVELS[-1]} iterations, "
-          f"POV-Ray {REF_FACTOR * POV_LEVELS[-1]} photons; medians of {a.reps} runs\n")
+          f"POV-Ray {REF_FACTOR * POV_LEVELS[-1]} photons (gather 20, {POV_GATHER}); "
+          f"medians of {a.reps} runs\n")
     sweeps = (("glint", GLINT_LEVELS, "PPM iterations (x100 000 photons)"),
               ("povray", POV_LEVELS, "photons (count)"))
     for name, levels, what in sweeps:
