@@ -314,6 +314,11 @@ def main():
 
     med = {k: (statistics.median(w for w, _ in v), statistics.median(c for _, c in v))
            for k, v in times.items()}
+
+    def spread(name, n, i):  # "median (min-max)" of wall (i = 0) or CPU (1) times
+        xs = [t[i] for t in times[name, n]]
+        return f"{med[name, n][i]:.2f} ({min(xs):.2f}-{max(xs):.2f})"
+
     print(f"\ncaustic region: {len(region)} pixels (the ball's shadow on the floor); "
           f"references: glint {REF_FACTOR * GLINT_LEVELS[-1]} iterations, "
           f"POV-Ray {REF_FACTOR * POV_LEVELS[-1]} photons (gather 20, {POV_GATHER}); "
@@ -321,19 +326,18 @@ def main():
     sweeps = (("glint", GLINT_LEVELS, "PPM iterations (x100 000 photons)"),
               ("povray", POV_LEVELS, "photons (count)"))
     for name, levels, what in sweeps:
-        print(f"| {name} {what} | relative error | wall s | CPU s |")
+        print(f"| {name} {what} | relative error | wall s, median (range) | CPU s |")
         print("|---:|---:|---:|---:|")
         for n in levels:
-            wall, cpu = med[name, n]
-            print(f"| {n} | {errors[name, n]:.3f} | {wall:.2f} | {cpu:.2f} |")
+            print(f"| {n} | {errors[name, n]:.3f} | {spread(name, n, 0)} | "
+                  f"{spread(name, n, 1)} |")
         print()
     # The first level of each sweep under the threshold (no interpolation).
     for name, levels, _ in sweeps:
         under = [n for n in levels if errors[name, n] < a.threshold]
         if under:
-            wall, cpu = med[name, under[0]]
-            print(f"{name}: under {a.threshold} at {under[0]}: {wall:.2f} s wall, "
-                  f"{cpu:.2f} s CPU")
+            print(f"{name}: under {a.threshold} at {under[0]}: "
+                  f"{spread(name, under[0], 0)} s wall, {spread(name, under[0], 1)} s CPU")
         else:
             print(f"{name}: not under {a.threshold} in the sweep")
     print(f"load average after: {os.getloadavg()[0]:.1f}")
