@@ -212,3 +212,62 @@ fn the_photons_pass_is_the_term_explain_shows_and_ppms_estimate() {
     }
     assert!(nonzero > 100, "{nonzero} pixels with a photon estimate");
 }
+
+#[test]
+fn ppm_hit_points_are_the_pictures_own_samples() {
+    // Looking straight down at a floor: every camera sample lands on it, so
+    // PPM keeps one hit point a sample: one a pixel, N with `--spp N`, and
+    // `dofSample=` with an open lens.
+    let floor = "camera\n O= 0 0 4\n N= 0 0 -1\n image_W= 12\n image_H= 9\n\
+        sample_photons= 20\n sample_dist= 0.3\n algorithm= RT\nend\n\
+        light point\n O= 0 0 3\n color= 2 2 2\nend\n\
+        primitive plane\n N= 0 0 1\n R= 0\n color= 0.8 0.8 0.8\n diff= 1\nend\n";
+    let points = |text: &str, spp: Option<u32>| {
+        let mut o = options(PhotonMode::Ppm, 2);
+        o.spp = spp;
+        o.photons.iterations = Some(1);
+        o.photons.emit = Some(1000);
+        let (_, stats) = renderer(text)
+            .render_with(&o, Control::default())
+            .expect("renders");
+        stats.photons.hit_points
+    };
+    assert_eq!(points(floor, None), 12 * 9);
+    assert_eq!(points(floor, Some(4)), 4 * 12 * 9);
+    let lens = floor.replace(
+        " algorithm= RT\n",
+        " algorithm= RT\n aperture= 0.2\n focalLen= 4\n dofSample= 3\n",
+    );
+    assert_eq!(points(&lens, None), 3 * 12 * 9);
+}
+
+#[test]
+fn ppm_under_an_open_lens_blurs_the_caustic_it_does_not_focus() {
+    // The caustic under the glass ball, seen through a wide lens focused far
+    // beyond it: PPM's photon term (the photons pass) spreads over more
+    // pixels and its peak falls, as the ray-traced part's picture does.
+    let peak_and_spread = |lens: &str| {
+        let text = GLASS.replace(" algorithm= RT\n", &format!(" algorithm= RT\n{lens}"));
+        let mut o = options(PhotonMode::Ppm, 2);
+        o.photons.emit = Some(50_000);
+        o.aovs = vec![glint::Aov::Photons];
+        let film = renderer(&text).render(&o).expect("renders");
+        let plane = film.plane("photons").expect("a photons plane");
+        let red: Vec<f32> = plane.data.chunks(3).map(|c| c[0]).collect();
+        let peak = red.iter().copied().fold(0.0, f32::max);
+        let spread = red.iter().filter(|&&v| v > peak / 4.0).count();
+        (peak, spread)
+    };
+    let (sharp, sharp_spread) = peak_and_spread("");
+    let (blurred, blurred_spread) =
+        peak_and_spread(" aperture= 0.6\n focalLen= 40\n dofSample= 16\n");
+    assert!(sharp > 0.0, "a caustic");
+    assert!(
+        blurred < 0.75 * sharp,
+        "peak {sharp} through the pinhole, {blurred} through the lens"
+    );
+    assert!(
+        blurred_spread > sharp_spread,
+        "{sharp_spread} pixels above a quarter of the peak through the pinhole, {blurred_spread} through the lens"
+    );
+}

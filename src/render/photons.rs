@@ -10,6 +10,7 @@ use crate::integrator::photons::{
     gather, shoot, update_hit_point,
 };
 use crate::integrator::{Model, RayCounts, SceneAccel, ShadowHints};
+use crate::sampling::strata;
 use crate::scene::Scene;
 use glam::DVec3;
 use rayon::prelude::*;
@@ -119,7 +120,17 @@ pub(crate) fn progressive(
         let done = render_region(p.frame, region, spp, Keep::default(), &quiet)
             .ok_or(Unfinished::Cancelled)?;
         rays.add(&done.rays);
-        let (seeds, r) = eye_pass(p.frame, region, |x, y| p.frame.centre_sample(x, y));
+        // The hit points of the samples the picture takes: with `--spp`
+        // or an open lens, each of its n samples, weighing 1/n.
+        let (seeds, r) = match spp {
+            Some(n) => {
+                let strata = strata(n);
+                eye_pass(p.frame, region, n, |x, y, s| {
+                    p.frame.jittered(x, y, s, strata)
+                })
+            }
+            None => eye_pass(p.frame, region, 1, |x, y, _| p.frame.centre_sample(x, y)),
+        };
         rays.add(&r);
         let points = hit_points(p.scene, &model, plan, seeds.hits)?;
         let direct: Vec<DVec3> = done
@@ -167,7 +178,7 @@ pub(crate) fn progressive(
             break;
         }
         let visible = if plan.mode == PhotonMode::Sppm {
-            let (seeds, r) = eye_pass(p.frame, region, |x, y| p.frame.fresh(x, y, i as u32));
+            let (seeds, r) = eye_pass(p.frame, region, 1, |x, y, _| p.frame.fresh(x, y, i as u32));
             rays.add(&r);
             let mut by_pixel: Vec<Vec<HitPoint>> = vec![Vec::new(); pixels];
             for h in hit_points(p.scene, &model, plan, seeds.hits)? {
@@ -261,19 +272,22 @@ fn compose(
         .collect()
 }
 
-/// The diffuse hits of one camera sample per pixel of `region`, tagged
-/// with the pixel, and each sample's colour.
+/// The diffuse hits of the camera samples of each pixel of `region`,
+/// tagged with the pixel, and each pixel's mean colour.
 struct EyePass {
     hits: Vec<(u32, HitPointSeed)>,
     colors: Vec<DVec3>,
 }
 
-/// Traces `sample(x, y)` for each pixel of `region`, keeping its hits.
+/// Traces samples `sample(x, y, s)`, s < `n`, of each pixel of `region`,
+/// keeping their hits, each weighing 1/n.
 fn eye_pass(
     frame: &Frame<'_>,
     region: Region,
-    sample: impl Fn(u32, u32) -> (crate::geometry::Ray, crate::integrator::PathState) + Sync,
+    n: u32,
+    sample: impl Fn(u32, u32, u32) -> (crate::geometry::Ray, crate::integrator::PathState) + Sync,
 ) -> (EyePass, RayCounts) {
+    let share = 1.0 / f64::from(n.max(1));
     let rows: Vec<(EyePass, RayCounts)> = (region.y..region.y + region.height)
         .into_par_iter()
         .map(|y| {
@@ -283,19 +297,27 @@ fn eye_pass(
                 colors: Vec::with_capacity(region.width as usize),
             };
             let mut rays = RayCounts::default();
+            let fresh = HitPointObserver::default();
             for x in region.x..region.x + region.width {
                 let pixel = (y - region.y) * region.width + (x - region.x);
-                frame.packet(
-                    1,
-                    |_| sample(x, y),
-                    &HitPointObserver::default(),
-                    |_, c, obs, r| {
-                        row.hits.extend(obs.seeds.drain(..).map(|s| (pixel, s)));
-                        row.colors.push(c);
-                        rays.add(r);
-                    },
-                    &mut hints,
-                );
+                let mut color = DVec3::ZERO;
+                for s in 0..n.max(1) {
+                    frame.packet(
+                        1,
+                        |_| sample(x, y, s),
+                        &fresh,
+                        |_, c, obs, r| {
+                            row.hits.extend(obs.seeds.drain(..).map(|mut h| {
+                                h.throughput *= share;
+                                (pixel, h)
+                            }));
+                            color += c;
+                            rays.add(r);
+                        },
+                        &mut hints,
+                    );
+                }
+                row.colors.push(color * share);
             }
             (row, rays)
         })
