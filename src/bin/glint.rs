@@ -59,21 +59,11 @@ struct ServeArgs {
     /// Your own render of the scene (.bmp or .png) to compare with, on a slider.
     #[arg(long)]
     compare: Option<PathBuf>,
-    /// Image width in pixels, as for `render`.
-    #[arg(long)]
-    width: Option<u32>,
-    /// Image height in pixels, as for `render`.
-    #[arg(long)]
-    height: Option<u32>,
     /// Worker threads, as for `render`.
     #[arg(long, value_parser = thread_count)]
     threads: Option<usize>,
-    /// Seed of the random streams, as for `render`.
-    #[arg(long, default_value_t = 0)]
-    seed: u64,
-    /// Stratified samples per pixel, as for `render` (default: adaptive anti-aliasing).
-    #[arg(long, value_parser = at_least_one::<u32>)]
-    spp: Option<u32>,
+    #[command(flatten)]
+    pixels: PixelArgs,
     #[command(flatten)]
     dialect: DialectArg,
     #[command(flatten)]
@@ -90,18 +80,8 @@ struct CompareArgs {
     /// differing pixels from red to white.
     #[arg(short, long)]
     output: Option<PathBuf>,
-    /// Render glint's picture this wide, as `render --width` does.
-    #[arg(long)]
-    width: Option<u32>,
-    /// Render glint's picture this high, as `render --height` does.
-    #[arg(long)]
-    height: Option<u32>,
-    /// Stratified samples per pixel, as for `render` (default: adaptive anti-aliasing).
-    #[arg(long, value_parser = at_least_one::<u32>)]
-    spp: Option<u32>,
-    /// Seed of the random streams, as for `render`.
-    #[arg(long, default_value_t = 0)]
-    seed: u64,
+    #[command(flatten)]
+    pixels: PixelArgs,
     /// A pixel differs when a channel is off by more than this (8-bit steps).
     #[arg(long, default_value_t = glint::DEFAULT_THRESHOLD)]
     threshold: u8,
@@ -133,18 +113,8 @@ struct ExplainArgs {
     /// The pixel, `X,Y` (column, row from the top, from 0).
     #[arg(long, value_parser = pixel)]
     pixel: (u32, u32),
-    /// Image width in pixels, as for `render`.
-    #[arg(long)]
-    width: Option<u32>,
-    /// Image height in pixels, as for `render`.
-    #[arg(long)]
-    height: Option<u32>,
-    /// Seed of the random streams, as for `render`.
-    #[arg(long, default_value_t = 0)]
-    seed: u64,
-    /// Stratified samples per pixel, as for `render` (default: adaptive anti-aliasing).
-    #[arg(long, value_parser = at_least_one::<u32>)]
-    spp: Option<u32>,
+    #[command(flatten)]
+    pixels: PixelArgs,
     /// List every ray of glossy fans and every sample, instead of summing them up.
     #[arg(long)]
     expand: bool,
@@ -170,22 +140,15 @@ fn pixel(s: &str) -> Result<(u32, u32), String> {
     Ok((n(x)?, n(y)?))
 }
 
+/// What decides a picture's pixels beside the scene: its size, samples and seed.
 #[derive(Args)]
-struct RenderArgs {
-    /// The scene file.
-    scene: PathBuf,
-    /// Output image; the format follows the extension [default: the scene's name with .png]
-    #[arg(short, long)]
-    output: Option<PathBuf>,
+struct PixelArgs {
     /// Image width in pixels, overriding the scene's image_W= (the lens stays as the scene sets it).
     #[arg(long)]
     width: Option<u32>,
     /// Image height in pixels, overriding the scene's image_H=.
     #[arg(long)]
     height: Option<u32>,
-    /// Worker threads, 1 to 1024 [default: one per core]
-    #[arg(long, value_parser = thread_count)]
-    threads: Option<usize>,
     /// Seed of the random streams (same scene and seed: same bytes, whatever the threads).
     #[arg(long, default_value_t = 0)]
     seed: u64,
@@ -193,6 +156,33 @@ struct RenderArgs {
     /// (at least 1; 1: exactly one ray through each pixel's centre).
     #[arg(long, value_parser = at_least_one::<u32>)]
     spp: Option<u32>,
+}
+
+impl PixelArgs {
+    /// The render options they set, the rest as `base` has them.
+    fn apply(&self, base: RenderOptions) -> RenderOptions {
+        RenderOptions {
+            width: self.width,
+            height: self.height,
+            seed: self.seed,
+            spp: self.spp,
+            ..base
+        }
+    }
+}
+
+#[derive(Args)]
+struct RenderArgs {
+    /// The scene file.
+    scene: PathBuf,
+    /// Output image; the format follows the extension [default: the scene's name with .png]
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Worker threads, 1 to 1024 [default: one per core]
+    #[arg(long, value_parser = thread_count)]
+    threads: Option<usize>,
+    #[command(flatten)]
+    pixels: PixelArgs,
     /// No progress bar, no summary (warnings and errors are still printed).
     #[arg(short, long)]
     quiet: bool,
@@ -454,16 +444,11 @@ fn run_serve(args: ServeArgs, interrupt: &AtomicBool) -> Result<(), Failure> {
         scene: args.scene.clone(),
         bind: args.bind,
         port: args.port,
-        render: RenderOptions {
+        render: args.pixels.apply(RenderOptions {
             threads: args.threads,
-            seed: args.seed,
-            spp: args.spp,
-            width: args.width,
-            height: args.height,
-            region: None,
-            aovs: Vec::new(),
             photons: args.photons.options(),
-        },
+            ..RenderOptions::default()
+        }),
         dialect: args.dialect.dialect,
         compare: args.compare.clone(),
     };
@@ -527,13 +512,7 @@ fn run_compare(args: CompareArgs, interrupt: &AtomicBool) -> Result<(), Failure>
     let (theirs, size) =
         glint::read_picture(&args.theirs).map_err(|e| fail(format!("error: {e}")))?;
     let renderer = Renderer::new(scene);
-    let options = RenderOptions {
-        width: args.width,
-        height: args.height,
-        spp: args.spp,
-        seed: args.seed,
-        ..RenderOptions::default()
-    };
+    let options = args.pixels.apply(RenderOptions::default());
     let c = glint::compare(&renderer, &theirs, size, args.threshold, &options).map_err(
         |e| match e {
             glint::CompareError::Size { .. } => {
@@ -648,19 +627,16 @@ fn run_render(args: RenderArgs, interrupt: &AtomicBool) -> Result<(), Failure> {
             say(&format!("note: {note}"));
         }
     }
-    let options = RenderOptions {
+    let options = args.pixels.apply(RenderOptions {
         threads: args.threads,
-        seed: args.seed,
-        spp: args.spp,
-        width: args.width,
-        height: args.height,
         region: args.region,
         aovs: match &args.aov {
             Some(list) => Aov::parse_list(list).map_err(|e| fail(format!("error: --aov: {e}")))?,
             None => Vec::new(),
         },
         photons: args.photons.options(),
-    };
+        ..RenderOptions::default()
+    });
     check_interrupt(interrupt)?;
     let renderer = Renderer::new(scene);
     if !args.quiet {
@@ -813,16 +789,11 @@ fn check_memory(w: u32, h: u32) -> Result<(), Failure> {
 
 fn run_explain(args: ExplainArgs) -> Result<(), Failure> {
     let scene = load_scene(&args.scene, args.dialect.dialect, true)?;
-    let options = RenderOptions {
+    let options = args.pixels.apply(RenderOptions {
         threads: Some(1),
-        seed: args.seed,
-        spp: args.spp,
-        width: args.width,
-        height: args.height,
-        region: None,
-        aovs: Vec::new(),
         photons: args.photons.options(),
-    };
+        ..RenderOptions::default()
+    });
     let renderer = Renderer::new(scene);
     let (x, y) = args.pixel;
     let e = renderer.explain(&options, x, y).map_err(render_failure)?;
