@@ -174,9 +174,9 @@ pub use probe::{
     MAX_RAY_ERRORS, ProbeHit, RayError, RaysError, parse_ray, read_rays, to_json, to_text,
 };
 pub use render::{
-    Aov, Checkpoint, Control, Explanation, Film, LIGHT_PASSES_MAX, MAX_EXPLAINED_SPP, MAX_THREADS,
-    PhotonStats, Plane, Region, RenderError, RenderOptions, RenderStats, Renderer, Sampling, Stage,
-    WorkEstimate, memory_needed,
+    Aov, Checkpoint, Control, Explanation, Film, HitPointTerm, LIGHT_PASSES_MAX, MAX_EXPLAINED_SPP,
+    MAX_THREADS, PhotonStats, Plane, ProgressiveTerm, Region, RenderError, RenderOptions,
+    RenderStats, Renderer, Sampling, Stage, WorkEstimate, memory_needed,
 };
 pub use scene::{Dialect, DialectChoice, Scene, SceneError};
 

@@ -271,3 +271,56 @@ fn ppm_under_an_open_lens_blurs_the_caustic_it_does_not_focus() {
         "{sharp_spread} pixels above a quarter of the peak through the pinhole, {blurred_spread} through the lens"
     );
 }
+
+#[test]
+fn explain_under_ppm_and_sppm_ends_in_the_rendered_bytes() {
+    // explain repeats the render's iterations over the pixel's own hit
+    // points, with the same photons: its colour is the rendered pixel's
+    // (to the rounding of the gather's order, which follows the grid's
+    // cell, sized by the region's largest radius) and so are its bytes.
+    let r = renderer(GLASS);
+    for (mode, spp) in [
+        (PhotonMode::Ppm, None),
+        (PhotonMode::Ppm, Some(2)),
+        (PhotonMode::Sppm, None),
+    ] {
+        let mut o = options(mode, 2);
+        o.spp = spp;
+        let film = r.render(&o).expect("renders");
+        let image = film.image();
+        let bytes = image.to_rgb8();
+        let mut with_photons = 0;
+        for (x, y) in [(20, 25), (19, 26), (5, 28), (35, 5), (12, 20), (30, 27)] {
+            let e = r.explain(&o, x, y).expect("explains");
+            let at = ((y * 40 + x) * 3) as usize;
+            let want = image.pixel(x, y);
+            for c in 0..3 {
+                assert!(
+                    (e.color[c] - want[c]).abs() <= 1e-6 * want[c].abs().max(1e-3),
+                    "{mode:?} {spp:?} ({x}, {y}): colour {:?}, rendered {want:?}",
+                    e.color
+                );
+            }
+            assert_eq!(
+                &e.bytes[..],
+                &bytes[at..at + 3],
+                "{mode:?} {spp:?} ({x}, {y})"
+            );
+            let p = e.progressive.as_ref().expect("the photon term");
+            assert_eq!(p.iterations, 3);
+            let term: f64 = p.points.iter().map(|h| h.term.x).sum();
+            // The picture is the ray-traced part plus the photon term.
+            let sum = (f64::from(p.direct[0]) + term).min(1.0);
+            assert!(
+                (sum - f64::from(e.color[0])).abs() < 1e-6,
+                "{sum} {:?}",
+                e.color
+            );
+            with_photons += usize::from(term > 0.0);
+        }
+        assert!(
+            with_photons >= 3,
+            "{mode:?}: {with_photons} pixels with photon light"
+        );
+    }
+}

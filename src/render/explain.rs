@@ -32,6 +32,40 @@ pub struct Explanation {
     pub file: Option<String>,
     /// The cause that decides the pixel, in a sentence.
     pub verdict: String,
+    /// Under PPM or SPPM, the pixel's photon term after the render's iterations.
+    pub progressive: Option<ProgressiveTerm>,
+}
+
+/// A pixel's photon term under PPM or SPPM: its hit points after the
+/// render's iterations (the same photons, gathered the same way).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ProgressiveTerm {
+    /// `ppm` or `sppm`.
+    pub algorithm: &'static str,
+    /// Iterations done.
+    pub iterations: u64,
+    /// Photons emitted in each.
+    pub emitted: u64,
+    /// The pixel's ray-traced part (linear): PPM's render of it, SPPM's mean
+    /// of its iterations' samples.
+    pub direct: [f32; 3],
+    /// PPM's hit points in the pixel, or SPPM's one running estimate.
+    pub points: Vec<HitPointTerm>,
+}
+
+/// One hit point's estimate after the iterations.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HitPointTerm {
+    /// Where it is (`None` for SPPM's, whose point is fresh each iteration).
+    pub point: Option<DVec3>,
+    /// What its estimate is multiplied by: the path's weight times k.
+    pub weight: DVec3,
+    /// Its radius R now.
+    pub radius: f64,
+    /// N: the photons it has accumulated (after the reduction α).
+    pub photons: f64,
+    /// What it adds to the pixel: weight·τ/(π·R²·iterations).
+    pub term: DVec3,
 }
 
 /// How the render sampled a pixel.
@@ -45,6 +79,8 @@ pub enum Sampling {
     },
     /// `--spp n`: n stratified samples (one through the centre for 1).
     Stratified(u32),
+    /// SPPM: one sample jittered over the pixel in each of n iterations.
+    Fresh(u32),
 }
 
 /// Pixel (x, y) of `frame` (inside it) explained: the samples a render
@@ -58,7 +94,7 @@ pub(crate) fn explain_pixel(
     (x, y): (u32, u32),
 ) -> Explanation {
     let mut hints = ShadowHints::default();
-    let (sampling, color, mut samples) = match spp.map(|n| n.max(1)) {
+    let (sampling, color, samples) = match spp.map(|n| n.max(1)) {
         Some(n) if n > 1 => {
             let strata = strata(n);
             let (sum, trees) = watched(frame, n as usize, &mut hints, |k| {
@@ -91,22 +127,89 @@ pub(crate) fn explain_pixel(
             (Sampling::Adaptive { refined }, c, trees)
         }
     };
+    explained(
+        scene,
+        accel,
+        (x, y),
+        sampling,
+        color.as_vec3().to_array(),
+        samples,
+    )
+}
+
+/// Pixel (x, y) of `frame` explained as SPPM samples it: one sample
+/// jittered over the pixel in each of its `iterations`.
+pub(crate) fn explain_fresh(
+    frame: &Frame,
+    scene: &Scene,
+    accel: &SceneAccel,
+    iterations: u32,
+    (x, y): (u32, u32),
+) -> Explanation {
+    let mut hints = ShadowHints::default();
+    let n = iterations.max(1);
+    let (sum, samples) = watched(frame, n as usize, &mut hints, |k| {
+        frame.fresh(x, y, k as u32 + 1)
+    });
+    let color = (sum / f64::from(n)).as_vec3().to_array();
+    explained(scene, accel, (x, y), Sampling::Fresh(n), color, samples)
+}
+
+/// The explanation of a pixel of colour `color` from its annotated samples.
+fn explained(
+    scene: &Scene,
+    accel: &SceneAccel,
+    pixel: (u32, u32),
+    sampling: Sampling,
+    color: [f32; 3],
+    mut samples: Vec<RayNode>,
+) -> Explanation {
     for node in &mut samples {
         annotate(scene, accel, node);
     }
-    let color = color.as_vec3().to_array();
-    let rgb = Image::from_pixels(1, 1, vec![color]).to_rgb8();
-    let bytes = [rgb[0], rgb[1], rgb[2]];
     let file = scene.path().map(|p| p.display().to_string());
-    let verdict = verdict(&samples, bytes, file.as_deref());
-    Explanation {
-        pixel: (x, y),
-        bytes,
+    let mut e = Explanation {
+        pixel,
+        bytes: [0; 3],
         color,
         sampling,
         samples,
         file,
-        verdict,
+        verdict: String::new(),
+        progressive: None,
+    };
+    e.set_color(color);
+    e
+}
+
+impl Explanation {
+    /// Makes `color` the pixel's colour: its bytes and verdict follow.
+    fn set_color(&mut self, color: [f32; 3]) {
+        let rgb = Image::from_pixels(1, 1, vec![color]).to_rgb8();
+        self.color = color;
+        self.bytes = [rgb[0], rgb[1], rgb[2]];
+        self.verdict = verdict(&self.samples, self.bytes, self.file.as_deref());
+    }
+
+    /// Adds PPM's or SPPM's photon term `term`, which makes the pixel
+    /// `color`; the verdict says what share of its light the photons give.
+    pub(crate) fn set_progressive(&mut self, term: ProgressiveTerm, color: [f32; 3]) {
+        self.set_color(color);
+        let photons: DVec3 = term.points.iter().map(|h| h.term).sum();
+        let all = photons + DVec3::from(term.direct.map(f64::from));
+        if photons.element_sum() > 0.0 {
+            let share = 100.0 * photons.element_sum() / all.element_sum();
+            self.verdict.push_str(&format!(
+                " {}'s photons give {share:.0} % of its light.",
+                term.algorithm.to_uppercase()
+            ));
+        } else {
+            self.verdict.push_str(&format!(
+                " {}'s photons add nothing here.",
+                term.algorithm.to_uppercase()
+            ));
+        }
+        self.progressive = Some(term);
     }
 }
 

@@ -17,7 +17,7 @@ mod verdict;
 
 pub use aov::Aov;
 pub(crate) use camera::basis;
-pub use explain::{Explanation, Sampling};
+pub use explain::{Explanation, HitPointTerm, ProgressiveTerm, Sampling};
 pub use film::{Film, Plane, Region};
 pub use photons::PhotonStats;
 pub use schedule::MAX_THREADS;
@@ -152,6 +152,15 @@ pub enum RenderError {
         /// The key's value.
         max: u64,
     },
+}
+
+impl From<photons::Unfinished> for RenderError {
+    fn from(e: photons::Unfinished) -> Self {
+        match e {
+            photons::Unfinished::Cancelled => RenderError::Cancelled,
+            photons::Unfinished::HitPoints { found, max } => RenderError::HitPoints { found, max },
+        }
+    }
 }
 
 /// What PPM and SPPM hand the picture so far to: (iteration, film).
@@ -382,12 +391,7 @@ impl Renderer {
             let done = schedule::with_threads(options.threads, || {
                 photons::progressive(&p, region, spp, &watch, &mut each)
             })
-            .map_err(|e| match e {
-                photons::Unfinished::Cancelled => RenderError::Cancelled,
-                photons::Unfinished::HitPoints { found, max } => {
-                    RenderError::HitPoints { found, max }
-                }
-            })?;
+            .map_err(RenderError::from)?;
             let (pixels, rays) = (done.pixels, done.rays);
             photon_stats = done.stats;
             photon_term = Some(done.photons);
@@ -498,18 +502,74 @@ impl Renderer {
                 frame_h: h,
             });
         }
-        // PM's map as the render traces it (PPM's and SPPM's iterations are
-        // not repeated: their pixels' direct part is explained).
+        // PM's map as the render traces it.
         let (plan, map, _) = self.photon_pass(options);
         let shading = self.photon_shading(&plan, map.as_ref());
         let (spp, frame) = self.sampled_frame(w, h, options, shading);
-        Ok(explain::explain_pixel(
-            &frame,
-            &self.scene,
-            &self.accel,
-            spp,
-            (x, y),
-        ))
+        if !plan.mode.progressive() {
+            return Ok(explain::explain_pixel(
+                &frame,
+                &self.scene,
+                &self.accel,
+                spp,
+                (x, y),
+            ));
+        }
+        // PPM and SPPM: the render's iterations over this one pixel's hit
+        // points (the same photons; the photon passes on every core).
+        let mut e = if plan.mode == PhotonMode::Sppm {
+            let n = u32::try_from(plan.iterations).unwrap_or(u32::MAX);
+            explain::explain_fresh(&frame, &self.scene, &self.accel, n, (x, y))
+        } else {
+            explain::explain_pixel(&frame, &self.scene, &self.accel, spp, (x, y))
+        };
+        let p = photons::Progressive {
+            frame: &frame,
+            scene: &self.scene,
+            accel: &self.accel,
+            plan: &plan,
+            seed: options.seed,
+            checkpoint: plan.iterations.max(1),
+        };
+        let watch = Watch {
+            progress: &|_, _| {},
+            cancel: None,
+        };
+        let pixel = Region {
+            x,
+            y,
+            width: 1,
+            height: 1,
+        };
+        let done = schedule::with_threads(None, || {
+            photons::progressive(&p, pixel, spp, &watch, &mut |_, _| {})
+        })
+        .map_err(RenderError::from)?;
+        let iterations = done.stats.iterations;
+        let sppm = plan.mode == PhotonMode::Sppm;
+        let term = explain::ProgressiveTerm {
+            algorithm: if sppm { "sppm" } else { "ppm" },
+            iterations,
+            emitted: done.stats.emitted,
+            direct: done
+                .direct
+                .first()
+                .map_or([0.0; 3], |d| d.as_vec3().to_array()),
+            points: done
+                .points
+                .iter()
+                .map(|h| explain::HitPointTerm {
+                    point: (!sppm).then_some(h.point),
+                    weight: h.weight,
+                    radius: h.r2.sqrt(),
+                    photons: h.n,
+                    term: h.radiance(iterations),
+                })
+                .collect(),
+        };
+        let color = done.pixels.first().copied().unwrap_or(e.color);
+        e.set_progressive(term, color);
+        Ok(e)
     }
 
     /// For each primitive block that made a surface (0-based index): its

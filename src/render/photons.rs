@@ -89,6 +89,11 @@ pub(crate) struct Progressed {
     pub rays: RayCounts,
     /// The photon passes' figures.
     pub stats: PhotonStats,
+    /// The hit points (PPM) or pixels' running estimates (SPPM) at the end.
+    pub points: Vec<HitPoint>,
+    /// Each pixel's ray-traced part: PPM's render of it, SPPM's mean of
+    /// its iterations' samples.
+    pub direct: Vec<DVec3>,
 }
 
 /// The pixels of `region` after PPM's or SPPM's iterations, the rays the
@@ -232,6 +237,12 @@ pub(crate) fn progressive(
         }
         None => return Err(Unfinished::Cancelled),
     };
+    let direct = if plan.mode == PhotonMode::Sppm {
+        let passes = stats.iterations.max(1) as f64;
+        direct_sum.iter().map(|s| *s / passes).collect()
+    } else {
+        direct
+    };
     // The photons pass: each pixel's photon estimate alone.
     let mut term = vec![0f32; pixels * 3];
     for h in &points {
@@ -247,6 +258,8 @@ pub(crate) fn progressive(
         photons: term,
         rays,
         stats,
+        points,
+        direct,
     })
 }
 

@@ -2,7 +2,7 @@
 //! schema is in docs/debugging.md). Fans of glossy rays are summed up
 //! (count, mean, spread) unless `expand` is asked for.
 
-use super::explain::{Explanation, Sampling};
+use super::explain::{Explanation, ProgressiveTerm, Sampling};
 use super::verdict::{named, place};
 use crate::integrator::{LightTerm, RayKind, RayNode};
 use glam::DVec3;
@@ -310,6 +310,9 @@ impl Explanation {
             }
             Sampling::Stratified(1) => "1 sample through the centre (--spp 1)".to_string(),
             Sampling::Stratified(n) => format!("{n} stratified samples (--spp {n})"),
+            Sampling::Fresh(n) => {
+                format!("SPPM: {n} samples, one jittered over the pixel an iteration")
+            }
         }
     }
 
@@ -342,6 +345,9 @@ impl Explanation {
                 self.samples.len() - shown
             );
         }
+        if let Some(p) = &self.progressive {
+            progressive_text(&mut out, p);
+        }
         let _ = writeln!(out, "verdict: {}", self.verdict);
         out
     }
@@ -352,6 +358,7 @@ impl Explanation {
         let (mode, refined, spp) = match self.sampling {
             Sampling::Adaptive { refined } => ("adaptive", Some(refined), None),
             Sampling::Stratified(n) => ("stratified", None, Some(n)),
+            Sampling::Fresh(n) => ("sppm", None, Some(n)),
         };
         let c = self.color;
         json!({
@@ -361,8 +368,54 @@ impl Explanation {
             "sampling": {"mode": mode, "refined": refined, "spp": spp},
             "file": file,
             "samples": self.samples.iter().map(|s| node_json(s, file, expand)).collect::<Vec<_>>(),
+            "progressive": self.progressive.as_ref().map(|p| json!({
+                "algorithm": p.algorithm,
+                "iterations": p.iterations,
+                "emitted": p.emitted,
+                "direct": p.direct,
+                "points": p.points.iter().map(|h| json!({
+                    "point": h.point.map(v3),
+                    "weight": v3(h.weight),
+                    "radius": h.radius,
+                    "photons": h.photons,
+                    "term": v3(h.term),
+                })).collect::<Vec<_>>(),
+            })),
             "verdict": self.verdict,
         })
         .to_string()
+    }
+}
+
+/// PPM's or SPPM's photon term of a pixel, as text: its hit points and
+/// what each adds to the ray-traced part.
+fn progressive_text(out: &mut String, p: &ProgressiveTerm) {
+    let f = |v: DVec3| format!("({:.4}, {:.4}, {:.4})", v.x, v.y, v.z);
+    let direct = DVec3::from(p.direct.map(f64::from));
+    let _ = writeln!(
+        out,
+        "photons ({}, {} iterations of {} photons): the ray-traced part {}",
+        p.algorithm.to_uppercase(),
+        p.iterations,
+        p.emitted,
+        f(direct)
+    );
+    if p.points.is_empty() {
+        let _ = writeln!(out, "  no diffuse hit: no photon term");
+    }
+    for h in &p.points {
+        let at = h
+            .point
+            .map_or("the pixel's running estimate".to_string(), |v| {
+                format!("hit point at {}", f(v))
+            });
+        let _ = writeln!(
+            out,
+            "  {at}, weight {}: {:.1} photons within R = {:.4}, adding {}",
+            f(h.weight),
+            h.photons,
+            h.radius,
+            f(h.term)
+        );
     }
 }
