@@ -172,10 +172,20 @@ impl KdTree {
             return;
         }
         let (q, side) = (x.to_array(), side.to_array());
-        self.visit(0, self.pos.len(), q, side, out);
+        self.visit(0, self.pos.len(), q, side, [0.0; 3], out);
     }
 
-    fn visit(&self, lo: usize, hi: usize, q: [f64; 3], side: [f64; 3], out: &mut Nearest) {
+    /// Searches `[lo, hi)`, whose box is `off` away from `q` along each axis
+    /// (at least: the splits met on the way down).
+    fn visit(
+        &self,
+        lo: usize,
+        hi: usize,
+        q: [f64; 3],
+        side: [f64; 3],
+        off: [f64; 3],
+        out: &mut Nearest,
+    ) {
         if hi - lo <= LEAF {
             self.scan(lo, hi, q, side, out);
             return;
@@ -183,17 +193,22 @@ impl KdTree {
         let mid = lo + (hi - lo) / 2;
         let a = self.axis[mid] as usize;
         let d = q[a] - self.pos[mid][a];
-        // The split photon and every one across it are at least |d| away
-        // along the axis (and their d², rounded, at least d·d rounded).
         let (near, far) = if d < 0.0 {
             ((lo, mid), (mid + 1, hi))
         } else {
             ((mid + 1, hi), (lo, mid))
         };
-        self.visit(near.0, near.1, q, side, out);
-        if d * d <= out.bound {
+        self.visit(near.0, near.1, q, side, off, out);
+        // The split photon and every one across it are at least |d| away
+        // along the axis, and `off` away along the others: a lower bound
+        // of their d², kept a hair below it (1e-9) so that rounding never
+        // prunes a photon whose own d² reaches the bound.
+        let mut far_off = off;
+        far_off[a] = d;
+        let box_d2 = far_off[0] * far_off[0] + far_off[1] * far_off[1] + far_off[2] * far_off[2];
+        if box_d2 <= out.bound * (1.0 + 1e-9) {
             self.scan(mid, mid + 1, q, side, out);
-            self.visit(far.0, far.1, q, side, out);
+            self.visit(far.0, far.1, q, side, far_off, out);
         }
     }
 
@@ -226,18 +241,7 @@ fn build(entries: &mut [Entry], axis: &mut [u8]) {
     if n <= LEAF {
         return;
     }
-    let (lo, hi) = entries.iter().fold(
-        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-        |(lo, hi), e| (lo.min(e.pos.into()), hi.max(e.pos.into())),
-    );
-    let extent = hi - lo;
-    let a = if extent.x >= extent.y && extent.x >= extent.z {
-        0
-    } else if extent.y >= extent.z {
-        1
-    } else {
-        2
-    };
+    let a = split_axis(entries);
     let mid = n / 2;
     entries.select_nth_unstable_by(mid, |p, q| {
         p.pos[a].total_cmp(&q.pos[a]).then(p.index.cmp(&q.index))
@@ -253,4 +257,35 @@ fn build(entries: &mut [Entry], axis: &mut [u8]) {
         build(el, al);
         build(er, ar);
     }
+}
+
+/// The axis to split `entries` along: the widest spread of their middle
+/// half, estimated from at most 64 of them taken evenly (an infinite floor's
+/// few far photons would make the whole extent choose an axis along which
+/// most photons lie at one value), then the widest extent.
+fn split_axis(entries: &[Entry]) -> usize {
+    const SAMPLE: usize = 64;
+    let step = entries.len().div_ceil(SAMPLE).max(1);
+    let mut best = (0, (f64::NEG_INFINITY, f64::NEG_INFINITY));
+    for a in 0..3 {
+        let mut v = [0.0; SAMPLE];
+        let mut m = 0;
+        for e in entries.iter().step_by(step) {
+            v[m] = e.pos[a];
+            m += 1;
+        }
+        let v = &mut v[..m];
+        v.sort_unstable_by(f64::total_cmp);
+        let spread = v[3 * m / 4] - v[m / 4];
+        let (lo, hi) = entries
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), e| {
+                (lo.min(e.pos[a]), hi.max(e.pos[a]))
+            });
+        let score = (spread, hi - lo);
+        if score > best.1 {
+            best = (a, score);
+        }
+    }
+    best.0
 }
