@@ -76,11 +76,10 @@ pub mod photon_bench {
             }
         }
 
-        /// Traces pass `pass`; returns the photons stored.
-        pub fn shoot(&self, pass: u64) -> usize {
-            shoot(&self.scene, &self.accel, &self.model, &self.plan, 1, pass)
-                .photons
-                .len()
+        /// Traces pass `pass`; returns the photons stored and the rays cast.
+        pub fn shoot(&self, pass: u64) -> (usize, u64) {
+            let pass = shoot(&self.scene, &self.accel, &self.model, &self.plan, 1, pass);
+            (pass.photons.len(), pass.rays)
         }
 
         /// The photon map of pass 0.

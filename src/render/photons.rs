@@ -44,6 +44,9 @@ pub struct PhotonStats {
     pub planned: u64,
     /// Hit points (PPM).
     pub hit_points: u64,
+    /// Rays cast tracing photons (one a path segment): PM's map, or every
+    /// iteration's pass together.
+    pub rays: u64,
 }
 
 /// Traces PM's photon map.
@@ -59,6 +62,7 @@ pub(crate) fn photon_map(
         emitted: pass.emitted,
         stored: pass.photons.len() as u64,
         thinned: pass.thinned,
+        rays: pass.rays,
         ..PhotonStats::default()
     };
     (
@@ -170,10 +174,7 @@ pub(crate) fn progressive(
         // R₀²: the K-nearest distance² in a preliminary map, at most R².
         let (map, _) = photon_map(p.scene, p.accel, &model, plan, p.seed ^ 0x7072_656c);
         points.par_iter_mut().for_each(|h| {
-            h.r2 = map
-                .nearest(h.point, h.side)
-                .1
-                .min(plan.radius * plan.radius);
+            h.r2 = map.radius2(h.point, h.side).min(plan.radius * plan.radius);
         });
     }
     let mut direct_sum = vec![DVec3::ZERO; pixels];
@@ -203,6 +204,7 @@ pub(crate) fn progressive(
         }
         (stats.emitted, stats.stored, stats.thinned) =
             (pass.emitted, pass.photons.len() as u64, pass.thinned);
+        stats.rays += pass.rays;
         let cell = points.iter().map(|h| h.r2).fold(0.0, f64::max).sqrt();
         let grid = PhotonGrid::new(&pass.photons, cell);
         let alpha = plan.reduction;

@@ -5,7 +5,8 @@
 
 use crate::Scene;
 use crate::integrator::photons::{
-    Brdf, HitPoint, PhotonMap, PhotonMode, PhotonOptions, Plan, shoot, update_hit_point,
+    Brdf, HitPoint, Photon, PhotonFilter, PhotonMap, PhotonMode, PhotonOptions, Plan, shoot,
+    update_hit_point,
 };
 use crate::integrator::{Model, SceneAccel};
 use crate::scene::Dialect;
@@ -207,9 +208,183 @@ fn glass_ball_passes_the_flux_it_intercepts_and_focuses_on_the_axis() {
     );
 }
 
+/// The K nearest photons within √`r2` of `x` whose direction d has
+/// d·`side` < 0, by brute force: (d², index) nearest first (ties by index),
+/// and r² (the K-th d², at least the least positive f64, or `r2` when fewer).
+fn brute_nearest(
+    photons: &[Photon],
+    x: DVec3,
+    side: DVec3,
+    k: usize,
+    r2: f64,
+) -> (Vec<(f64, u32)>, f64) {
+    let mut all: Vec<(f64, u32)> = photons
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p.dir.dot(side) < 0.0)
+        .map(|(i, p)| ((p.pos - x).length_squared(), i as u32))
+        .filter(|&(d2, _)| d2 <= r2)
+        .collect();
+    all.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    all.truncate(k);
+    let r = if all.len() == k {
+        all[k - 1].0.max(f64::MIN_POSITIVE)
+    } else {
+        r2
+    };
+    (all, r)
+}
+
+/// `n` photons at multiples of 1/8 in [−2, 2]³ (so that distances to
+/// points at multiples of 1/32 are exact, and tie often),
+/// a share `back` of them travelling up (+z) and the rest down.
+fn lattice_photons(rng: &mut rand_pcg::Pcg32, n: usize, back: f64) -> Vec<Photon> {
+    use rand::Rng;
+    let mut cell = || f64::from(rng.random_range(-16i32..=16)) / 8.0;
+    let mut photons: Vec<Photon> = (0..n)
+        .map(|_| Photon {
+            pos: DVec3::new(cell(), cell(), cell()),
+            dir: DVec3::ZERO,
+            power: DVec3::ZERO,
+            bounces: 0,
+        })
+        .collect();
+    for p in &mut photons {
+        let t = DVec3::new(
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+            0.0,
+        );
+        let up = rng.random::<f64>() < back;
+        p.dir = (t + DVec3::Z * if up { 1.0 } else { -1.0 }).normalize();
+        p.power = DVec3::new(rng.random(), rng.random(), rng.random());
+    }
+    photons
+}
+
+#[test]
+fn the_k_nearest_are_exactly_a_brute_force_searchs() {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_pcg::Pcg32::seed_from_u64(19);
+    // The empty map: nothing found, r² = R².
+    let empty = PhotonMap::new(Vec::new(), 10, 0.5, PhotonFilter::Box);
+    assert_eq!(empty.nearest(DVec3::ZERO, DVec3::Z), (Vec::new(), 0.25));
+    assert_eq!(empty.estimate(DVec3::ZERO, DVec3::Z, &lambert()).count, 0);
+    let mut checked = [0usize; 3];
+    for (n, back) in [(1, 0.0), (7, 0.5), (300, 0.3), (5000, 0.1), (20_000, 0.9)] {
+        let photons = lattice_photons(&mut rng, n, back);
+        // R below and above the K-radius (radii with exact squares).
+        for (k, radius) in [
+            (1, 0.25),
+            (8, 0.5),
+            (30, 4.0),
+            (100, 0.375),
+            (100, 8.0),
+            (400, 1.0),
+        ] {
+            let map = PhotonMap::new(photons.clone(), k, radius, PhotonFilter::Box);
+            for _ in 0..60 {
+                let mut at = || f64::from(rng.random_range(-80i32..=80)) / 32.0;
+                let x = DVec3::new(at(), at(), at());
+                // Front means travelling down (d·z < 0), or up for the −z side.
+                let side = if rng.random::<bool>() {
+                    DVec3::Z
+                } else {
+                    -DVec3::Z
+                };
+                let (near, r2) = map.nearest(x, side);
+                let (brute, brute_r2) = brute_nearest(&photons, x, side, k, radius * radius);
+                assert_eq!(
+                    near, brute,
+                    "n {n}, K {k}, R {radius}, at {x:?} facing {side:?}"
+                );
+                assert_eq!(r2, brute_r2, "n {n}, K {k}, R {radius}, at {x:?}");
+                assert_eq!(map.radius2(x, side), r2);
+                checked[match near.len() {
+                    0..8 => 0,
+                    m if m < k => 1,
+                    _ => 2,
+                }] += 1;
+                // The estimate: Σ Φ/(π r²) over those photons, 0 below 8.
+                let e = map.estimate(x, side, &lambert());
+                let sum: f64 = brute
+                    .iter()
+                    .map(|&(_, i)| photons[i as usize].power.x)
+                    .sum();
+                let expected = if brute.len() < 8 {
+                    0.0
+                } else {
+                    sum / (PI * brute_r2)
+                };
+                assert_eq!(e.count, brute.len());
+                assert_eq!(e.r2, brute_r2);
+                assert!(
+                    (e.value.x - expected).abs() <= 1e-12 * expected,
+                    "{e:?} {expected}"
+                );
+            }
+        }
+    }
+    // Fewer than 8 found, 8 to K − 1 found, and K found: each case was met.
+    assert!(checked.iter().all(|&c| c > 50), "{checked:?}");
+}
+
+#[test]
+fn the_k_nearest_of_scattered_photons_are_exactly_a_brute_force_searchs() {
+    use rand::{Rng, SeedableRng};
+    // Positions anywhere, far from the origin, directions any way, the cone
+    // filter: the same photons, distances and r² as a brute force.
+    let mut rng = rand_pcg::Pcg32::seed_from_u64(20);
+    let centre = DVec3::new(1000.0, -300.0, 50.0);
+    let photons: Vec<Photon> = (0..20_000)
+        .map(|_| {
+            let u = DVec3::new(rng.random(), rng.random(), rng.random());
+            let d = DVec3::new(rng.random(), rng.random(), rng.random()) - 0.5;
+            Photon {
+                pos: centre + (u - 0.5) * 10.0,
+                dir: d.normalize(),
+                power: DVec3::new(rng.random(), 1.0, 1.0),
+                bounces: 0,
+            }
+        })
+        .collect();
+    for (k, radius) in [(50, 0.3), (50, 3.0), (200, 1.0)] {
+        let map = PhotonMap::new(photons.clone(), k, radius, PhotonFilter::Cone);
+        for _ in 0..100 {
+            let u = DVec3::new(rng.random(), rng.random(), rng.random());
+            let x = centre + (u - 0.5) * 11.0;
+            let side = (DVec3::new(rng.random(), rng.random(), rng.random()) - 0.5).normalize();
+            let (near, r2) = map.nearest(x, side);
+            let (brute, brute_r2) = brute_nearest(&photons, x, side, k, radius * radius);
+            assert_eq!(
+                (&near, r2),
+                (&brute, brute_r2),
+                "K {k}, R {radius} at {x:?}"
+            );
+            // The cone filter: weight 1 − d/(1.1 r), normalised by 1 − 2/(3·1.1).
+            let e = map.estimate(x, side, &lambert());
+            let r = brute_r2.sqrt();
+            let sum: f64 = brute
+                .iter()
+                .map(|&(d2, i)| photons[i as usize].power.x * (1.0 - d2.sqrt() / (1.1 * r)))
+                .sum();
+            let norm = 1.0 - 2.0 / (3.0 * 1.1);
+            let expected = if brute.len() < 8 {
+                0.0
+            } else {
+                sum / (norm * PI * brute_r2)
+            };
+            assert!(
+                (e.value.x - expected).abs() <= 1e-12 * expected,
+                "{e:?} {expected}"
+            );
+        }
+    }
+}
+
 #[test]
 fn the_grid_finds_exactly_the_photons_a_brute_force_search_finds() {
-    use crate::integrator::photons::{Photon, PhotonGrid};
+    use crate::integrator::photons::PhotonGrid;
     use rand::{Rng, SeedableRng};
     let mut rng = rand_pcg::Pcg32::seed_from_u64(12);
     let photons: Vec<Photon> = (0..5000)
@@ -328,7 +503,7 @@ fn max_photons_thins_evenly_and_keeps_the_power() {
                 .any(|q| q.pos == p.pos && (q.power * scale - p.power).abs().max_element() < 1e-12)
         );
     }
-    let total = |v: &[crate::integrator::photons::Photon]| v.iter().map(|p| p.power.x).sum::<f64>();
+    let total = |v: &[Photon]| v.iter().map(|p| p.power.x).sum::<f64>();
     assert!((total(&capped.photons) / total(&full.photons) - 1.0).abs() < 0.05);
 }
 

@@ -1,9 +1,10 @@
 //! Photon mapping (`photon-mapping.md`): photons traced from the lights
 //! and stored on diffuse surfaces, then gathered at the eye's diffuse hits,
-//! once (PM, through a k-d tree) or progressively over iterations (PPM and
+//! once (PM, through a flat k-d tree) or progressively over iterations (PPM and
 //! SPPM, through a hashed grid of each pass's photons).
 
 mod gather;
+mod kdtree;
 mod map;
 mod plan;
 mod points;

@@ -48,6 +48,8 @@ pub(crate) struct PhotonPass {
     /// Photons that would have been stored beyond `max_photons=` (the kept
     /// ones were thinned evenly and their power scaled to make up for them).
     pub thinned: u64,
+    /// Rays cast: one nearest-hit query per path segment.
+    pub rays: u64,
 }
 
 /// Each emitting light's index and photon count (the counts add up to
@@ -90,26 +92,31 @@ pub(crate) fn shoot(
         model,
         plan,
     };
-    let chunks: Vec<Vec<Photon>> = (0..emitted.div_ceil(CHUNK))
+    let chunks: Vec<(Vec<Photon>, u64)> = (0..emitted.div_ceil(CHUNK))
         .into_par_iter()
         .map(|c| {
-            let mut out = Vec::new();
+            let (mut out, mut rays) = (Vec::new(), 0);
             let (lo, hi) = (c * CHUNK, ((c + 1) * CHUNK).min(emitted));
             for j in lo..hi {
                 // The light whose range holds j.
                 let (_, l, n) = starts[starts.partition_point(|s| s.0 <= j) - 1];
                 let mut rng = Pcg32::seed_from_u64(mix(key ^ j));
-                tracer.trace(l, n, &mut rng, &mut out);
+                rays += tracer.trace(l, n, &mut rng, &mut out);
             }
-            out
+            (out, rays)
         })
         .collect();
-    let mut photons = chunks.concat();
+    let rays = chunks.iter().map(|c| c.1).sum();
+    let mut photons = Vec::with_capacity(chunks.iter().map(|c| c.0.len()).sum());
+    for (chunk, _) in &chunks {
+        photons.extend_from_slice(chunk);
+    }
     let thinned = thin(&mut photons, plan.max_photons, key);
     PhotonPass {
         photons,
         emitted,
         thinned,
+        rays,
     }
 }
 
@@ -149,18 +156,20 @@ struct Tracer<'a> {
 
 impl Tracer<'_> {
     /// Traces one photon of light `l` (which emits `n` this pass), storing
-    /// it into `out` at each diffuse hit the plan keeps.
-    fn trace(&self, l: usize, n: u64, rng: &mut Pcg32, out: &mut Vec<Photon>) {
+    /// it into `out` at each diffuse hit the plan keeps; returns the rays
+    /// it cast.
+    fn trace(&self, l: usize, n: u64, rng: &mut Pcg32, out: &mut Vec<Photon>) -> u64 {
         let light = &self.scene.lights()[l];
         let (origin, dir) = emit(light, rng);
         let mut flux = light.color * (4.0 * PI / n as f64);
         let mut ray = Ray::new(origin, dir);
         let (mut bounces, mut inside, mut hits) = (0u32, false, 0u32);
         // A light's own surface is passed through: a few times at most.
-        let mut passes = 0;
+        let (mut passes, mut rays) = (0, 0);
         while hits < MAX_PHOTON_HITS {
+            rays += 1;
             let Some((index, hit)) = self.accel.intersect(&ray, f64::INFINITY) else {
-                return;
+                return rays;
             };
             let object = &self.accel.objects()[index as usize];
             match object.light() {
@@ -169,7 +178,7 @@ impl Tracer<'_> {
                     ray = Ray::off_surface(ray.at(hit.t), ray.dir);
                     continue;
                 }
-                Some(_) => return,
+                Some(_) => return rays,
                 None => {}
             }
             hits += 1;
@@ -255,10 +264,11 @@ impl Tracer<'_> {
                     None => (offset_origin(point, side), reflect(ray.dir, nrm)),
                 }
             } else {
-                return;
+                return rays;
             };
             ray = Ray::off_surface(next.0, next.1);
         }
+        rays
     }
 
     /// Whether a photon at its `hits`-th hit after `bounces` mirror or glass
