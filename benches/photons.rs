@@ -51,6 +51,27 @@ fn photons(c: &mut Criterion) {
             BatchSize::SmallInput,
         )
     });
+    // The same, at floor points in a render's order: a 1280×760 raster's
+    // rows one after another, so that neighbouring queries share the map's
+    // cache lines as a render's do (the random points above miss them).
+    let raster = |i: u64| {
+        let (x, y) = (
+            (i % 1280) as f64 / 1280.0,
+            ((i / 1280) % 760) as f64 / 760.0,
+        );
+        DVec3::new(4.0 * x - 2.0, 3.5 * y - 1.0, 0.0)
+    };
+    let mut next = 0u64;
+    g.bench_function("estimate K=100 of 1M, raster order", |b| {
+        b.iter_batched(
+            || {
+                next += 1;
+                raster(next)
+            },
+            |x| black_box(map.estimate(x, DVec3::Z)),
+            BatchSize::SmallInput,
+        )
+    });
     // A PPM iteration: 100k photons, 1280×760 hit points on the floor, R = 0.05.
     let p = prepared(100_000, 100);
     let mut points: Vec<(DVec3, f64)> = (0..1280 * 760)

@@ -50,35 +50,37 @@ impl Found {
     }
 }
 
-/// One K-nearest search's results: a max-heap by [`Found::key`].
+/// One K-nearest search's results: candidates within the bound, cut to
+/// the K least by [`Found::key`] whenever they reach 2K (one selection
+/// per K candidates instead of a heap's sift per candidate).
 #[derive(Default)]
 pub(crate) struct Nearest {
-    heap: Vec<Found>,
+    found: Vec<Found>,
     k: usize,
     /// The largest d² a photon may have to enter.
     bound: f64,
 }
 
 impl Nearest {
-    /// The photons found, in heap order.
+    /// The photons found (the K least, or all when fewer), in no order.
     pub fn found(&self) -> &[Found] {
-        &self.heap
+        &self.found
     }
 
     /// Whether K photons were found.
     pub fn full(&self) -> bool {
-        self.heap.len() >= self.k
+        self.found.len() >= self.k
     }
 
     /// The farthest found photon's d².
     pub fn farthest(&self) -> f64 {
-        self.heap.first().map_or(0.0, |f| f.d2)
+        self.found.iter().map(|f| f.d2).fold(0.0, f64::max)
     }
 
     fn reset(&mut self, k: usize, r2: f64) {
-        self.heap.clear();
-        if self.heap.capacity() < k {
-            self.heap.reserve(k);
+        self.found.clear();
+        if self.found.capacity() < 2 * k {
+            self.found.reserve(2 * k);
         }
         self.k = k;
         self.bound = r2;
@@ -87,51 +89,26 @@ impl Nearest {
     /// Offers `f`; the caller has checked that its d² is at most the bound.
     #[inline]
     fn offer(&mut self, f: Found) {
-        let heap = &mut self.heap;
-        let key = f.key();
-        if heap.len() < self.k {
-            // Sift up.
-            let mut i = heap.len();
-            heap.push(f);
-            while i > 0 {
-                let parent = (i - 1) / 2;
-                if heap[parent].key() >= key {
-                    break;
-                }
-                heap[i] = heap[parent];
-                i = parent;
-            }
-            heap[i] = f;
-            if heap.len() == self.k {
-                self.bound = heap[0].d2;
-            }
-            return;
+        self.found.push(f);
+        if self.found.len() == self.k {
+            // The first K: none nearer can be missed beyond the farthest.
+            self.bound = self.bound.min(self.farthest());
+        } else if self.found.len() >= 2 * self.k {
+            self.cut();
         }
-        if key >= heap[0].key() {
-            return;
+    }
+
+    /// Keeps the K least; the bound becomes the K-th one's d² (a photon
+    /// as far that sorts before it by index may still enter).
+    fn cut(&mut self) {
+        let k = self.k;
+        if self.found.len() > k {
+            self.found.select_nth_unstable_by_key(k - 1, Found::key);
+            self.found.truncate(k);
         }
-        // Replace the top and sift down.
-        let n = heap.len();
-        let mut i = 0;
-        loop {
-            let l = 2 * i + 1;
-            if l >= n {
-                break;
-            }
-            let r = l + 1;
-            let c = if r < n && heap[r].key() > heap[l].key() {
-                r
-            } else {
-                l
-            };
-            if heap[c].key() <= key {
-                break;
-            }
-            heap[i] = heap[c];
-            i = c;
+        if self.found.len() == k {
+            self.bound = self.found[k - 1].d2;
         }
-        heap[i] = f;
-        self.bound = heap[0].d2;
     }
 }
 
@@ -173,6 +150,7 @@ impl KdTree {
         }
         let (q, side) = (x.to_array(), side.to_array());
         self.visit(0, self.pos.len(), q, side, [0.0; 3], out);
+        out.cut();
     }
 
     /// Searches `[lo, hi)`, whose box is `off` away from `q` along each axis
