@@ -161,6 +161,9 @@ impl<'p> Builder<'p> {
                 second_block(self.cameras, "camera", &mut b);
                 let cam = build(self.scene.camera().clone(), &mut b);
                 self.scene.set_camera(cam);
+                for f in &b.fields.list {
+                    self.scene.set_camera_key_line(f.name, header_line(f.site));
+                }
             }
             Build::Light(build) => self.light(build, &mut b),
             Build::Primitive(build) => self.primitive(build, index, &mut b),
@@ -252,7 +255,7 @@ fn caveat(d: Dialect, algorithm: Option<&str>) -> Option<String> {
     }
 }
 
-/// The 1-based line of a block's header.
+/// The 1-based line of a site (a block's header, a key).
 fn header_line(header: Site) -> u32 {
     u32::try_from(header.line + 1).unwrap_or(u32::MAX)
 }
