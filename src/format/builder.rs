@@ -32,13 +32,18 @@ pub(crate) struct Builder<'p> {
 }
 
 impl<'p> Builder<'p> {
-    /// A builder resolving relative paths against `base` first.
-    pub fn new(base: &'p Path, path: Option<&Path>) -> Self {
+    /// A builder resolving relative paths against `base` first (with
+    /// `files`; without, it finds no file: see [`Assets::find_nothing`]).
+    pub fn new(base: &'p Path, path: Option<&Path>, files: bool) -> Self {
         let mut scene = Scene::empty();
         scene.set_path(path.map(Path::to_path_buf));
         Builder {
             scene,
-            assets: Assets::new(base),
+            assets: if files {
+                Assets::new(base)
+            } else {
+                Assets::find_nothing(base)
+            },
             next_block: 0,
             cameras: 0,
             backgrounds: 0,
