@@ -744,6 +744,73 @@ fn a_long_render_is_announced_with_what_drives_it() {
     );
 }
 
+/// The first line of `glint render` that announces a long render (the
+/// render itself is stopped once it is read).
+fn slow_warning(scene: &str, out: &Path, extra: &[&str]) -> String {
+    use std::io::BufRead;
+    let mut child = spawn_render(scene, out, extra);
+    let mut first = String::new();
+    let err = std::io::BufReader::new(child.stderr.take().unwrap());
+    for line in err.lines() {
+        let Ok(line) = line else { break };
+        if line.contains("this render") {
+            first = line;
+            break;
+        }
+    }
+    terminate(&child);
+    let _ = child.wait();
+    first
+}
+
+/// The keys that make a render long are named with their `file:line`: the
+/// image size, `shade_quality=` (the second camera block's, which
+/// overrides the first's) and the area lights' headers.
+#[test]
+fn a_long_render_names_the_lines_of_the_keys_that_drive_it() {
+    let dir = scratch("slow-lines");
+    let text = "camera
+    image_W= 4000
+    image_H= 3000
+    shade_quality= 8
+end
+camera
+    shade_quality= 1024
+end
+light sphere
+    R= 1
+    O= 0 0 5
+    color= 1 1 1
+end
+primitive sphere
+    R= 1
+end
+";
+    let scene = write(&dir, "lines.txt", text);
+    let first = slow_warning(&scene, &dir.join("l.png"), &[]);
+    // Places as the user named the file, the lines counted by hand above.
+    for (line, what) in [
+        (2, "`image_W=4000`"),
+        (3, "`image_H=3000`"),
+        (7, "`shade_quality=1024`"),
+    ] {
+        let want = format!("{scene}:{line} {what}");
+        assert!(first.contains(&want), "{want} not in: {first}");
+    }
+    assert!(
+        first.contains(&format!("area light(s) ({scene}:9)")),
+        "{first}"
+    );
+    assert!(!first.contains(&format!("{scene}:4")), "{first}");
+    // Sizes from the command line are not the file's keys.
+    let first = slow_warning(&scene, &dir.join("l.png"), &["--width", "4000"]);
+    assert!(
+        first.contains(&format!("{scene}:7 `shade_quality=1024`")),
+        "{first}"
+    );
+    assert!(!first.contains("image_W"), "{first}");
+}
+
 #[test]
 fn the_memory_check_respects_the_address_space_limit() {
     let dir = scratch("rlimit");

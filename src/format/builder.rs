@@ -32,13 +32,18 @@ pub(crate) struct Builder<'p> {
 }
 
 impl<'p> Builder<'p> {
-    /// A builder resolving relative paths against `base` first.
-    pub fn new(base: &'p Path, path: Option<&Path>) -> Self {
+    /// A builder resolving relative paths against `base` first (with
+    /// `files`; without, it finds no file: see [`Assets::find_nothing`]).
+    pub fn new(base: &'p Path, path: Option<&Path>, files: bool) -> Self {
         let mut scene = Scene::empty();
         scene.set_path(path.map(Path::to_path_buf));
         Builder {
             scene,
-            assets: Assets::new(base),
+            assets: if files {
+                Assets::new(base)
+            } else {
+                Assets::find_nothing(base)
+            },
             next_block: 0,
             cameras: 0,
             backgrounds: 0,
@@ -161,6 +166,9 @@ impl<'p> Builder<'p> {
                 second_block(self.cameras, "camera", &mut b);
                 let cam = build(self.scene.camera().clone(), &mut b);
                 self.scene.set_camera(cam);
+                for f in &b.fields.list {
+                    self.scene.set_camera_key_line(f.name, header_line(f.site));
+                }
             }
             Build::Light(build) => self.light(build, &mut b),
             Build::Primitive(build) => self.primitive(build, index, &mut b),
@@ -252,7 +260,7 @@ fn caveat(d: Dialect, algorithm: Option<&str>) -> Option<String> {
     }
 }
 
-/// The 1-based line of a block's header.
+/// The 1-based line of a site (a block's header, a key).
 fn header_line(header: Site) -> u32 {
     u32::try_from(header.line + 1).unwrap_or(u32::MAX)
 }

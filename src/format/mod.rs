@@ -29,6 +29,8 @@ pub(crate) use limits::{Limits, read_bounded};
 pub(crate) use obj::load_obj;
 #[cfg(feature = "fuzzing")]
 pub(crate) use obj::parse_obj;
+#[cfg(any(test, feature = "fuzzing"))]
+pub(crate) use reader::parse_text;
 pub(crate) use reader::{parse_file, parse_str};
 pub(crate) use values::{NumberError, parse_number};
 

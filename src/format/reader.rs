@@ -55,7 +55,7 @@ fn parse_chunked(
 ) -> Result<Scene, SceneError> {
     let chunk = chunk.max(1);
     let mut guard = LineGuard::new(limits);
-    let mut reader = Reader::new(Some(path), base, dialect);
+    let mut reader = Reader::new(Some(path), base, dialect, true);
     // Bytes read but not yet parsed: after the last `\n` read so far.
     let mut raw: Vec<u8> = Vec::new();
     // The text to parse next: the carried part of the last piece, then new lines.
@@ -117,7 +117,19 @@ pub(crate) fn parse_str(
     base: &Path,
     dialect: Option<Dialect>,
 ) -> Result<Scene, SceneError> {
-    let mut reader = Reader::new(path, base, dialect);
+    parse_text(text, path, base, dialect, true)
+}
+
+/// [`parse_str`], looking up the files the scene names only if `files`
+/// (otherwise none is found, and the file system is not touched).
+pub(crate) fn parse_text(
+    text: &str,
+    path: Option<&Path>,
+    base: &Path,
+    dialect: Option<Dialect>,
+    files: bool,
+) -> Result<Scene, SceneError> {
+    let mut reader = Reader::new(path, base, dialect, files);
     let text = reader.strip_bom(text);
     reader.feed(text, true);
     reader.finish()
@@ -174,12 +186,12 @@ struct Reader<'p> {
 
 impl<'p> Reader<'p> {
     /// A reader of the file `path` (`None`: a string), resolving relative
-    /// paths against `base` first.
-    fn new(path: Option<&Path>, base: &'p Path, dialect: Option<Dialect>) -> Self {
+    /// paths against `base` first (looking for no file unless `files`).
+    fn new(path: Option<&Path>, base: &'p Path, dialect: Option<Dialect>, files: bool) -> Self {
         let file = path.map_or_else(|| "<input>".to_string(), |p| p.display().to_string());
         Reader {
             diags: Diags::new(file),
-            builder: Builder::new(base, path),
+            builder: Builder::new(base, path, files),
             skipping: false,
             line: 0,
             dialect,
@@ -1074,7 +1086,7 @@ primitive sphere
 
     #[test]
     fn a_block_read_again_leaves_no_trace() {
-        let mut r = Reader::new(None, Path::new("."), None);
+        let mut r = Reader::new(None, Path::new("."), None, true);
         let text = "primitive sphere\n R= 1\nend\nprimitive spere\n R= x\n";
         let carry = r.feed(text, false);
         assert_eq!(text.get(carry..), Some("primitive spere\n R= x\n"));

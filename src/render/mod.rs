@@ -268,7 +268,39 @@ impl Renderer {
             Some(r) => r.area(),
             None => u64::from(w) * u64::from(h),
         };
-        let mut drivers = vec![format!("{w}x{h} pixels")];
+        // Each driving key with its place, `scene.txt:12 `shade_quality=64``,
+        // when the scene was read from text.
+        let file = self.scene.path().map_or_else(
+            || "<input>".to_string(),
+            |p| crate::scene::escaped(&p.display().to_string()).into_owned(),
+        );
+        let place = |line: Option<u32>| line.map(|l| format!("{file}:{l}"));
+        let key = |name: &str, value: &dyn std::fmt::Display| match place(
+            self.scene.camera_key_line(name),
+        ) {
+            Some(at) => format!("{at} `{name}={value}`"),
+            None => format!("`{name}={value}`"),
+        };
+        let file_key = |name: &str, value: &dyn std::fmt::Display| {
+            self.scene
+                .camera_key_line(name)
+                .is_some()
+                .then(|| key(name, value))
+        };
+        let mut size = format!("{w}x{h} pixels");
+        if options.width.is_none() && options.height.is_none() {
+            let keys: Vec<String> = [
+                file_key("image_W", &cam.width),
+                file_key("image_H", &cam.height),
+            ]
+            .into_iter()
+            .flatten()
+            .collect();
+            if !keys.is_empty() {
+                size = format!("{size} ({})", keys.join(", "));
+            }
+        }
+        let mut drivers = vec![size];
         let samples = match options.spp {
             Some(n) => {
                 drivers.push(format!("--spp {n}"));
@@ -277,16 +309,32 @@ impl Renderer {
             None => ADAPTIVE_RAYS_PER_PIXEL,
         };
         let lights = self.scene.lights();
-        let area = lights
-            .iter()
-            .filter(|l| !matches!(l.kind, LightKind::Point { .. }))
-            .count() as u64;
+        let area_lines: Vec<Option<u32>> = (0..lights.len() as u32)
+            .filter(|&i| !matches!(lights[i as usize].kind, LightKind::Point { .. }))
+            .map(|i| self.scene.light_line(i))
+            .collect();
+        let area = area_lines.len() as u64;
         let per_area = 16 * u64::from(cam.shade_quality.max(1));
         let shadow = (lights.len() as u64 - area) + area * per_area;
         if area > 0 {
+            // The area lights' headers too (the first few).
+            const SHOWN: usize = 3;
+            let mut at: Vec<String> = area_lines
+                .iter()
+                .filter_map(|&l| place(l))
+                .take(SHOWN)
+                .collect();
+            if area_lines.len() > SHOWN && !at.is_empty() {
+                at.push(format!("and {} more", area_lines.len() - SHOWN));
+            }
+            let at = if at.is_empty() {
+                String::new()
+            } else {
+                format!(" ({})", at.join(", "))
+            };
             drivers.push(format!(
-                "`shade_quality={}` with {area} area light(s): {per_area} shadow rays each a point",
-                cam.shade_quality
+                "{} with {area} area light(s){at}: {per_area} shadow rays each a point",
+                key("shade_quality", &cam.shade_quality)
             ));
         }
         let model = crate::integrator::Model::of(self.scene.dialect().dialect, cam);
@@ -295,8 +343,8 @@ impl Renderer {
         let spread = if glossy {
             let n = u64::from(model.glossy_samples);
             drivers.push(format!(
-                "`drefl_quality={}`: {n} rays a glossy reflection",
-                cam.drefl_quality
+                "{}: {n} rays a glossy reflection",
+                key("drefl_quality", &cam.drefl_quality)
             ));
             n
         } else {
@@ -315,8 +363,29 @@ impl Renderer {
             } else {
                 1
             };
+            let p = &cam.photons;
+            let mut keys: Vec<String> = Vec::new();
+            if options.photons.mode.is_none()
+                && let Some(a) = cam.algorithm.as_deref()
+            {
+                keys.extend(file_key("algorithm", &a));
+            }
+            if options.photons.emit.is_none() {
+                keys.extend(file_key("emit_photons", &p.emit_photons));
+            }
+            if plan.mode.progressive()
+                && options.photons.iterations.is_none()
+                && let Some(n) = p.iterations
+            {
+                keys.extend(file_key("iterations", &n));
+            }
+            let keys = if keys.is_empty() {
+                String::new()
+            } else {
+                format!(" ({})", keys.join(", "))
+            };
             drivers.push(format!(
-                "photons {}: {} a pass, {passes} pass(es)",
+                "photons {}: {} a pass, {passes} pass(es){keys}",
                 plan.mode.name(),
                 plan.emit
             ));

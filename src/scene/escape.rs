@@ -34,6 +34,12 @@ const FORMAT: &[(u32, u32)] = &[
 /// format character, the line or paragraph separator, or a noncharacter.
 pub(crate) fn hidden(c: char) -> bool {
     let u = u32::from(c);
+    // Printable ASCII, nearly every character of a scene file, at once
+    // (not after a search of the table; a fuzzer's instrumented build paid
+    // for each comparison of each character of each message).
+    if (0x20..0x7F).contains(&u) {
+        return false;
+    }
     (c.is_control() && c != '\t')
         || matches!(u, 0x2028 | 0x2029 | 0xFDD0..=0xFDEF)
         || u & 0xFFFE == 0xFFFE
@@ -59,6 +65,29 @@ pub fn escaped(text: &str) -> Cow<'_, str> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The shortcut for printable ASCII agrees with the definition (control
+    /// characters but tab, the format table, separators, noncharacters),
+    /// written out again here for every character.
+    #[test]
+    fn hidden_is_its_definition_for_every_character() {
+        let by_definition = |c: char| {
+            let u = u32::from(c);
+            (c.is_control() && c != '\t')
+                || u == 0x2028
+                || u == 0x2029
+                || (0xFDD0..=0xFDEF).contains(&u)
+                || u & 0xFFFE == 0xFFFE
+                || FORMAT.iter().any(|&(lo, hi)| lo <= u && u <= hi)
+        };
+        let differ: Vec<char> = (0..=0x10FFFF_u32)
+            .filter_map(char::from_u32)
+            .filter(|&c| hidden(c) != by_definition(c))
+            .collect();
+        assert!(differ.is_empty(), "{differ:?}");
+        assert!(!(' '..='~').any(hidden));
+        assert!(hidden('\u{7f}') && hidden('\u{1f}') && !hidden('\t'));
+    }
 
     #[test]
     fn invisible_and_turning_characters_are_escaped() {

@@ -58,6 +58,9 @@ pub struct Scene {
     block_lines: Vec<u32>,
     /// The 1-based line of each light's header, by light index (0: unknown).
     light_lines: Vec<u32>,
+    /// The 1-based line of each camera key that set its value (the last
+    /// one read), when read from text.
+    camera_key_lines: Vec<(&'static str, u32)>,
     /// The lineage whose renderer's model draws it, and why.
     dialect: DialectChoice,
 }
@@ -78,6 +81,7 @@ impl Scene {
             files: Vec::new(),
             block_lines: Vec::new(),
             light_lines: Vec::new(),
+            camera_key_lines: Vec::new(),
             dialect: DialectChoice::default(),
         }
     }
@@ -211,6 +215,25 @@ impl Scene {
             .get(light as usize)
             .copied()
             .filter(|&l| l > 0)
+    }
+
+    /// The 1-based line of the camera key `key` (`shade_quality`,
+    /// `image_W`...) that set the camera's value, when the scene was read
+    /// from text (a second `camera` block's key overrides the first's).
+    pub fn camera_key_line(&self, key: &str) -> Option<u32> {
+        self.camera_key_lines
+            .iter()
+            .find(|(k, _)| *k == key)
+            .map(|&(_, l)| l)
+            .filter(|&l| l > 0)
+    }
+
+    /// Records that the camera key `key` was set at 1-based line `line`.
+    pub(crate) fn set_camera_key_line(&mut self, key: &'static str, line: u32) {
+        match self.camera_key_lines.iter_mut().find(|(k, _)| *k == key) {
+            Some(entry) => entry.1 = line,
+            None => self.camera_key_lines.push((key, line)),
+        }
     }
 
     /// Records that primitive block `block` starts at 1-based line `line`.

@@ -683,6 +683,38 @@ fn columns_stay_right_before_glued_comments() {
     assert_eq!(d.len, 11, "{d}");
 }
 
+/// The fuzz target's reading finds none of the files a scene names, though
+/// they are there (next to the scene, in the working directory, absolute),
+/// and says so as the ordinary reading says of a missing file.
+#[test]
+fn a_reading_without_files_finds_none() {
+    let abs = std::fs::canonicalize(Path::new(DATA).join("tri.obj")).unwrap();
+    let abs = abs.display();
+    let text = format!(
+        "primitive sphere\n R= 1\n texture= tiny.bmp\nend\n\
+         primitive mesh\n file= {DATA}/tri.obj\nend\n\
+         primitive mesh\n file= {abs}\nend\n"
+    );
+    // Found, as usual: next to the scene, in the working directory, absolute
+    // (the sphere, and the one triangle of each mesh).
+    let s = ok(&text);
+    assert_eq!((s.textures().len(), s.objects().len()), (1, 3));
+    let e = match crate::format::parse_text(&text, None, Path::new(DATA), None, false) {
+        Ok(_) => panic!("a reading without files found them"),
+        Err(e) => e,
+    };
+    let lines: Vec<(usize, bool)> = e
+        .errors()
+        .map(|d| (d.line, d.message.contains("not found")))
+        .collect();
+    assert_eq!(lines, [(3, true), (6, true), (9, true)], "{e}");
+    let rendered = e.render(false);
+    assert!(
+        rendered.contains("texture file `tiny.bmp` not found"),
+        "{rendered}"
+    );
+}
+
 #[test]
 fn double_slashes_inside_file_paths_are_kept() {
     // Glued inside a path: part of it (`.//tiny.bmp` is `./tiny.bmp`).
