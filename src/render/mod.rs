@@ -16,6 +16,7 @@ mod shading_passes;
 mod verdict;
 
 pub use aov::Aov;
+#[cfg(feature = "serve")]
 pub(crate) use camera::basis;
 pub use explain::{Explanation, HitPointTerm, ProgressiveTerm, Sampling};
 pub use film::{Film, Plane, Region};
