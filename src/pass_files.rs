@@ -6,6 +6,7 @@
 
 use crate::output::{Format, Image, SaveError, write_atomically};
 use crate::render::{Cause, Film, Plane};
+use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
@@ -121,19 +122,30 @@ pub fn save_pass_images(
         .map(|e| e.to_string_lossy().into_owned())
         .unwrap_or_default();
     let hit = hit_mask(film);
+    // The passes are mapped, encoded and written on every core, as the
+    // render's rows are (one after another, they left all cores but one idle).
+    let each: Vec<Result<Vec<PathBuf>, SaveError>> = film
+        .planes()
+        .par_iter()
+        .map(|p| {
+            let (image, sidecar) = pass_image(p, film, &hit, table, file);
+            let path = pass_path(picture, &p.name, &ext);
+            let bytes = image.encode(format).map_err(|e| write_err(&path, e))?;
+            write_atomically(&path, &bytes, cancel).map_err(|e| write_err(&path, e))?;
+            let mut written = vec![path];
+            if let Some(json) = sidecar {
+                let path = pass_path(picture, &p.name, "json");
+                write_atomically(&path, format!("{json:#}\n").as_bytes(), cancel)
+                    .map_err(|e| write_err(&path, e))?;
+                written.push(path);
+            }
+            Ok(written)
+        })
+        .collect();
+    // In the passes' order: their files, or the first pass's error.
     let mut written = Vec::new();
-    for p in film.planes() {
-        let (image, sidecar) = pass_image(p, film, &hit, table, file);
-        let path = pass_path(picture, &p.name, &ext);
-        let bytes = image.encode(format).map_err(|e| write_err(&path, e))?;
-        write_atomically(&path, &bytes, cancel).map_err(|e| write_err(&path, e))?;
-        written.push(path);
-        if let Some(json) = sidecar {
-            let path = pass_path(picture, &p.name, "json");
-            write_atomically(&path, format!("{json:#}\n").as_bytes(), cancel)
-                .map_err(|e| write_err(&path, e))?;
-            written.push(path);
-        }
+    for files in each {
+        written.extend(files?);
     }
     Ok(written)
 }
