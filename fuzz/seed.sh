@@ -2,10 +2,11 @@
 # fuzz/seed.sh: fills fuzz/corpus/<target>/ with the repository's files.
 set -euo pipefail
 cd "$(dirname "$0")"
-mkdir -p corpus/scene corpus/obj corpus/texture corpus/rays
+mkdir -p corpus/scene corpus/diagnostics corpus/obj corpus/texture corpus/rays
 # Every scene of the repository, named after its path (examples/photons/x.txt: examples_photons_x.txt).
 find ../examples ../bench ../tests/data -name '*.txt' | while read -r f; do
     cp "$f" "corpus/scene/$(echo "${f#../}" | tr / _)"
+    cp "$f" "corpus/diagnostics/$(echo "${f#../}" | tr / _)"
 done
 cp ../tests/data/*.obj corpus/obj/
 find .. \( -path ../fuzz -o -path ../target -o -path ../.git \) -prune -o -name '*.obj' -print | head -20 | xargs -r -I{} cp {} corpus/obj/
