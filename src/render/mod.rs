@@ -441,17 +441,11 @@ impl Renderer {
         })?;
         let mut photon_term = None;
         let done = if plan.mode.progressive() {
-            let p = photons::Progressive {
-                frame: &frame,
-                scene: &self.scene,
-                accel: &self.accel,
-                plan: &plan,
-                seed: options.seed,
-                checkpoint: match control.checkpoint_every {
-                    0 => 10,
-                    n => n,
-                },
+            let checkpoint = match control.checkpoint_every {
+                0 => 10,
+                n => n,
             };
+            let p = self.progressive(&frame, &plan, options.seed, checkpoint);
             let mut each = |i: u64, pixels: &[[f32; 3]]| {
                 if let Some(checkpoint) = control.checkpoint {
                     let image = Image::from_pixels(region.width, region.height, pixels.to_vec());
@@ -593,14 +587,7 @@ impl Renderer {
         } else {
             explain::explain_pixel(&frame, &self.scene, &self.accel, spp, (x, y))
         };
-        let p = photons::Progressive {
-            frame: &frame,
-            scene: &self.scene,
-            accel: &self.accel,
-            plan: &plan,
-            seed: options.seed,
-            checkpoint: plan.iterations.max(1),
-        };
+        let p = self.progressive(&frame, &plan, options.seed, plan.iterations.max(1));
         let watch = Watch {
             progress: &|_, _| {},
             cancel: None,
@@ -702,6 +689,25 @@ impl Renderer {
             photons::photon_map(&self.scene, &self.accel, &model, &plan, options.seed)
         });
         (plan, Some(map), stats)
+    }
+
+    /// PPM's or SPPM's iterations under `plan` on `frame`, its picture
+    /// composed every `checkpoint` iterations.
+    fn progressive<'s>(
+        &'s self,
+        frame: &'s Frame<'s>,
+        plan: &'s Plan,
+        seed: u64,
+        checkpoint: u64,
+    ) -> photons::Progressive<'s> {
+        photons::Progressive {
+            frame,
+            scene: &self.scene,
+            accel: &self.accel,
+            plan,
+            seed,
+            checkpoint,
+        }
     }
 
     /// How the ray tracer shades under `plan`, gathering from `map` (PM).
