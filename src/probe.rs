@@ -251,16 +251,16 @@ mod tests {
 
     #[test]
     fn rays_files_name_their_bad_lines() {
-        let r = read_rays(&b"0 0 0 0 0 1 # a\n\n# b\n1 2 3 0 1 0\r\n"[..]).unwrap();
+        let r = read_rays(&b"0 0 0 0 0 1 # a\n\n# b\n1 2 3 0 1 0\r\n"[..]).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
         assert_eq!(r.len(), 2);
         let Err(RaysError::Lines(e, 0)) = read_rays(&b"0 0 0 0 0 1\n0 0 \xc3\xa9\xff 0 1"[..])
         else {
-            panic!("bad UTF-8 is an error");
+            panic!("bad UTF-8 is an error"); // invariant: the test's own fixed input (a failure fails the test)
         };
         assert_eq!((e[0].0, e[0].1.column), (2, 6));
         let many = "x\n".repeat(MAX_RAY_ERRORS + 5);
         let Err(RaysError::Lines(e, 5)) = read_rays(many.as_bytes()) else {
-            panic!("errors are capped");
+            panic!("errors are capped"); // invariant: the test's own fixed input (a failure fails the test)
         };
         assert_eq!(e.len(), MAX_RAY_ERRORS);
         assert!(matches!(

@@ -548,7 +548,7 @@ mod tests {
         let renderer = crate::render::Renderer::new(scene.clone());
         let (film, stats) = match renderer.render_with(&options, Default::default()) {
             Ok(done) => done,
-            Err(e) => panic!("{e}"),
+            Err(e) => panic!("{e}"), // invariant: the test's own fixed input (a failure fails the test)
         };
         let image = film.image();
         let mut want_rays = RayCounts::default();

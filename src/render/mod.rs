@@ -797,14 +797,14 @@ mod tests {
              primitive cylinder\n O1= 0 2 0\n O2= 0 2 2.5\n R= 0.4\n color= 0.2 0.9 0.3\n diff= 0.8\n spec= 0.3\nend\n";
         match Scene::parse(text, ".") {
             Ok(s) => Renderer::new(s),
-            Err(e) => panic!("{e}"),
+            Err(e) => panic!("{e}"), // invariant: the test's own fixed input (a failure fails the test)
         }
     }
 
     fn render(r: &Renderer, options: &RenderOptions) -> Image {
         match r.render(options) {
             Ok(film) => film.into_image(),
-            Err(e) => panic!("{e}"),
+            Err(e) => panic!("{e}"), // invariant: the test's own fixed input (a failure fails the test)
         }
     }
 
@@ -917,7 +917,7 @@ mod tests {
             shown.push((stage, f.image().width(), f.image().height()));
         }) {
             Ok(done) => done,
-            Err(e) => panic!("{e}"),
+            Err(e) => panic!("{e}"), // invariant: the test's own fixed input (a failure fails the test)
         };
         assert_eq!(shown, vec![(Stage::Coarse, 10, 8), (Stage::Final, 40, 30)]);
         assert_eq!(film.image(), &render(&r, &options));

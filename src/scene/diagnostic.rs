@@ -350,7 +350,7 @@ mod tests {
         let line = shown.lines().find_map(|l| l.strip_prefix("3 | "));
         let carets = shown.lines().find_map(|l| l.strip_prefix("  | "));
         let (Some(line), Some(carets)) = (line, carets.filter(|c| c.contains('^'))) else {
-            panic!("no excerpt or no carets in\n{shown}");
+            panic!("no excerpt or no carets in\n{shown}"); // invariant: the test's own fixed input (a failure fails the test)
         };
         let column = carets.find('^').unwrap_or(0);
         (line.to_string(), column, carets.matches('^').count())
@@ -517,7 +517,7 @@ mod tests {
         let shown = d.to_string();
         assert!(shown.len() < 1000, "{} bytes:\n{shown}", shown.len());
         let (excerpt, column, carets) = excerpt_and_carets(&shown);
-        let word = excerpt.find("WORD").unwrap_or_else(|| panic!("{shown}"));
+        let word = excerpt.find("WORD").unwrap_or_else(|| panic!("{shown}")); // invariant: the test's own fixed input (a failure fails the test)
         assert_eq!(column, columns(&excerpt[..word]), "{shown}");
         assert_eq!(carets, 4, "{shown}");
         // At the end of a long line, or at its start: one cut only.

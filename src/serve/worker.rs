@@ -442,7 +442,7 @@ mod tests {
     fn renderer(text: &str) -> Renderer {
         match Scene::parse(text, ".") {
             Ok(s) => Renderer::new(s),
-            Err(e) => panic!("{e}"),
+            Err(e) => panic!("{e}"), // invariant: the test's own fixed input (a failure fails the test)
         }
     }
 

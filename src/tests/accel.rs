@@ -636,7 +636,7 @@ fn one_object_of_each_kind() {
         let objects = vec![object(shape, Some(0))];
         let accel = Accel::build(objects.to_vec());
         let ray = Ray::new(DVec3::ZERO, DVec3::Y);
-        let (i, h) = accel.intersect(&ray, f64::INFINITY).unwrap();
+        let (i, h) = accel.intersect(&ray, f64::INFINITY).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
         assert_eq!((i, h.t), (0, t));
         assert!(accel.intersect(&ray, h.t).is_none());
         assert!(accel.occluded(&ray, 10.0, None));
@@ -681,10 +681,10 @@ fn all_objects_at_one_centroid() {
     check(&objects, 2000, 6.0, 9);
     let accel = Accel::build(objects.to_vec());
     let ray = Ray::new(c - DVec3::new(10.0, 0.0, 0.0), DVec3::X);
-    let (i, h) = accel.intersect(&ray, f64::INFINITY).unwrap();
+    let (i, h) = accel.intersect(&ray, f64::INFINITY).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     assert_eq!(
         (i, h),
-        brute_intersect(&objects, &ray, f64::INFINITY).unwrap()
+        brute_intersect(&objects, &ray, f64::INFINITY).unwrap() // invariant: the test's own fixed input (a failure fails the test)
     );
 }
 
@@ -822,7 +822,7 @@ fn geometric_progression_builds_a_deep_tree() {
             let expected = brute_intersect(&objects, &ray, f64::INFINITY);
             assert!(expected.is_some());
             assert_eq!(accel.intersect(&ray, f64::INFINITY), expected, "sphere {i}");
-            let t = expected.unwrap().1.t;
+            let t = expected.unwrap().1.t; // invariant: the test's own fixed input (a failure fails the test)
             assert_eq!(
                 accel.occluded(&ray, t.next_up(), Some(0)),
                 brute_occluded(&objects, &ray, t.next_up(), Some(0))
@@ -910,10 +910,10 @@ fn astronomic_and_nan_objects_are_tested_too() {
     ];
     let accel = Accel::build(objects.to_vec());
     let ray = Ray::new(DVec3::ZERO, DVec3::X);
-    let (i, h) = accel.intersect(&ray, f64::INFINITY).unwrap();
+    let (i, h) = accel.intersect(&ray, f64::INFINITY).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     assert_eq!(
         (i, h),
-        brute_intersect(&objects, &ray, f64::INFINITY).unwrap()
+        brute_intersect(&objects, &ray, f64::INFINITY).unwrap() // invariant: the test's own fixed input (a failure fails the test)
     );
     assert_eq!(i, 2);
     assert!((h.t - 3e31).abs() <= 3e31 * 1e-12);

@@ -215,7 +215,7 @@ fn closed_form_check(m: &Model, rays: &[Ray], hits: impl Fn(&Ray) -> Vec<RefHit>
     let mut compared = 0;
     for ray in rays {
         let refs = hits(ray);
-        check(m, ray, 0.0, f64::INFINITY, &refs).unwrap_or_else(|e| panic!("{ray:?}: {e}"));
+        check(m, ray, 0.0, f64::INFINITY, &refs).unwrap_or_else(|e| panic!("{ray:?}: {e}")); // invariant: the test's own fixed input (a failure fails the test)
         let near = refs
             .iter()
             .filter(|h| h.t > 0.0)
@@ -320,7 +320,7 @@ fn apex_rays_check(m: &Model, h: f64, r0: f64, r1: f64, count: usize) {
         let inside = dir.dot(m.a).abs() > cos_half_angle + 1e-6;
         let outside = dir.dot(m.a).abs() < cos_half_angle - 1e-6;
         if inside || (outside && hit.is_some()) {
-            let h = hit.unwrap_or_else(|| panic!("{ray:?} misses the apex"));
+            let h = hit.unwrap_or_else(|| panic!("{ray:?} misses the apex")); // invariant: the test's own fixed input (a failure fails the test)
             assert!(
                 (h.t - dist).abs() < 1e-9 * dist,
                 "{ray:?}: t {} vs {dist}",
@@ -408,7 +408,7 @@ fn near_perpendicular_rays_have_no_gap() {
                     let dir = (perp + m.a * eps).normalize();
                     let ray = Ray::new(target - dir * 6.0, dir);
                     check(m, &ray, 0.0, f64::INFINITY, &hits(m, &ray))
-                        .unwrap_or_else(|e| panic!("eps {eps:e} {ray:?}: {e}"));
+                        .unwrap_or_else(|e| panic!("eps {eps:e} {ray:?}: {e}")); // invariant: the test's own fixed input (a failure fails the test)
                     // Rays aimed straight at a surface point hit something by t ≈ 6.
                     let h = surface_of(m).intersect(&ray, 0.0, f64::INFINITY);
                     let clear = hits(m, &ray)
@@ -494,7 +494,7 @@ fn tangent_rays() {
                     f64::INFINITY,
                     &m.scan(ray.origin, ray.dir, 20000),
                 )
-                .unwrap_or_else(|e| panic!("eps {eps:e} {ray:?}: {e}"));
+                .unwrap_or_else(|e| panic!("eps {eps:e} {ray:?}: {e}")); // invariant: the test's own fixed input (a failure fails the test)
             }
         }
     }
@@ -537,7 +537,7 @@ fn axis_apex_check(count: usize, seed: u64, degree_of: impl Fn(usize) -> usize) 
             if (first - want).abs() > 1e-9 {
                 continue;
             }
-            let h = h.unwrap_or_else(|| panic!("{pts:?} {ray:?}: missed the apex at {want}"));
+            let h = h.unwrap_or_else(|| panic!("{pts:?} {ray:?}: missed the apex at {want}")); // invariant: the test's own fixed input (a failure fails the test)
             assert!(
                 (h.t - want).abs() < 1e-9 * (1.0 + want),
                 "t {} vs {want}",
@@ -556,7 +556,7 @@ fn rays_along_the_axis() {
     let shape = surface_of(&m);
     for rho in [0.0, 1e-300, 1e-12, 1e-6, 0.3, 1.0, 1.9] {
         let ray = Ray::new(DVec3::new(rho, 0.0, -1.0), DVec3::Z);
-        let h = shape.intersect(&ray, 0.0, f64::INFINITY).expect("hit");
+        let h = shape.intersect(&ray, 0.0, f64::INFINITY).expect("hit"); // invariant: the test's own fixed input (a failure fails the test)
         let want = 1.0 + 2.5 * rho * rho / 4.0;
         assert!((h.t - want).abs() < 1e-12, "ρ {rho}: t {} vs {want}", h.t);
         let n = shape.surface(&ray, &h).normal;
@@ -566,7 +566,7 @@ fn rays_along_the_axis() {
         );
         // From above, inside the bowl.
         let down = Ray::new(DVec3::new(rho, 0.0, 5.0), -DVec3::Z);
-        let h = shape.intersect(&down, 0.0, f64::INFINITY).expect("hit");
+        let h = shape.intersect(&down, 0.0, f64::INFINITY).expect("hit"); // invariant: the test's own fixed input (a failure fails the test)
         assert!(
             (h.t - (5.0 - want + 1.0)).abs() < 1e-12,
             "ρ {rho} down: {}",
@@ -578,7 +578,7 @@ fn rays_along_the_axis() {
     let shape = surface_of(&m);
     for rho in [0.0, 1e-15, 1e-9, 0.5] {
         let ray = Ray::new(DVec3::new(0.0, rho, -1.0), DVec3::Z);
-        let h = shape.intersect(&ray, 0.0, f64::INFINITY).expect("hit");
+        let h = shape.intersect(&ray, 0.0, f64::INFINITY).expect("hit"); // invariant: the test's own fixed input (a failure fails the test)
         let want = 2.0 - rho;
         assert!((h.t - want).abs() < 1e-12, "ρ {rho}: t {} vs {want}", h.t);
     }
@@ -1019,7 +1019,7 @@ fn degree_cap_is_64() {
     let ok = Bezier::new(DVec3::ZERO, DVec3::Z, pts(Bezier::MAX_DEGREE + 1));
     let h = ok
         .intersect(&ray, 0.0, f64::INFINITY)
-        .expect("degree 64 is hit");
+        .expect("degree 64 is hit"); // invariant: the test's own fixed input (a failure fails the test)
     assert!((h.t - 4.0).abs() < 1e-12, "{}", h.t);
     let refused = Bezier::new(DVec3::ZERO, DVec3::Z, pts(Bezier::MAX_DEGREE + 2));
     assert!(refused.intersect(&ray, 0.0, f64::INFINITY).is_none());
@@ -1179,7 +1179,7 @@ fn tessellation_check(m: &Model, ns: usize, nphi: usize, rays: usize) {
                 assert!(cos < 0.1, "missed tessellated hit t={t} cos={cos}")
             }
             (Some((h, true, _)), None) => {
-                panic!("hit t={} s={} not in the tessellation", h.t, h.u)
+                panic!("hit t={} s={} not in the tessellation", h.t, h.u) // invariant: the test's own fixed input (a failure fails the test)
             }
             (Some((h, true, cos)), Some((t, tcos))) if tcos > 0.1 => {
                 let tol = 2e-3 * m.scale / cos.min(tcos);
@@ -1293,7 +1293,7 @@ fn degenerate_input_does_not_panic() {
     // The flat disc z = 0.5, radius 2, seen from above at an angle.
     let disc = &cases[7];
     let ray = Ray::new(DVec3::new(0.3, 0.0, 2.0), DVec3::new(0.0, 0.6, -0.8));
-    let h = disc.intersect(&ray, 0.0, f64::INFINITY).expect("disc hit");
+    let h = disc.intersect(&ray, 0.0, f64::INFINITY).expect("disc hit"); // invariant: the test's own fixed input (a failure fails the test)
     assert!((h.t - 1.5 / 0.8).abs() < 1e-12);
     let n = disc.surface(&ray, &h).normal;
     assert!(

@@ -77,7 +77,7 @@ fn square_closed_form_hit_normal_and_uv() {
     let sq = Square::new(v(1.0, 2.0, 3.0), v(2.0, 0.0, 0.0), v(0.0, 1.0, 0.0));
     // From above, straight down onto (1.5, 2.5, 3).
     let r = ray(v(1.5, 2.5, 10.0), -DVec3::Z);
-    let h = sq.intersect(&r, 0.0, INF).unwrap();
+    let h = sq.intersect(&r, 0.0, INF).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     assert_eq!(h.t, 7.0);
     let s = sq.surface(&r, &h);
     assert_eq!(s.point, v(1.5, 2.5, 3.0));
@@ -87,15 +87,15 @@ fn square_closed_form_hit_normal_and_uv() {
     assert_uv(s.uv, DVec2::new(0.625, 0.75), 1e-15);
     // Two-sided: from below, same normal (the spec's unit(Dx × Dy)).
     let r = ray(v(1.5, 2.5, -1.0), DVec3::Z);
-    let h = sq.intersect(&r, 0.0, INF).unwrap();
+    let h = sq.intersect(&r, 0.0, INF).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     assert_eq!(h.t, 4.0);
     assert_eq!(sq.surface(&r, &h).normal, DVec3::Z);
     // Corners map to uv (0,0) and (1,1).
     let r = ray(v(-1.0, 1.0, 5.0), -DVec3::Z);
-    let h = sq.intersect(&r, 0.0, INF).unwrap();
+    let h = sq.intersect(&r, 0.0, INF).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     assert_uv(sq.surface(&r, &h).uv, DVec2::new(0.0, 0.0), 1e-15);
     let r = ray(v(3.0, 3.0, 5.0), -DVec3::Z);
-    let h = sq.intersect(&r, 0.0, INF).unwrap();
+    let h = sq.intersect(&r, 0.0, INF).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     assert_uv(sq.surface(&r, &h).uv, DVec2::new(1.0, 1.0), 1e-15);
     // Outside, behind, beyond t_max, parallel: misses.
     assert!(
@@ -131,14 +131,14 @@ fn square_skewed_parallelogram() {
     // (1.9, 0.95) = 0.95·Dx + 0.95·Dy: inside; (−1.5, 0.5) = −2·Dx + 0.5·Dy: outside
     // although inside the square's axis-aligned box.
     let r = ray(v(1.9, 0.95, 2.0), -DVec3::Z);
-    assert_eq!(sq.intersect(&r, 0.0, INF).unwrap().t, 2.0);
+    assert_eq!(sq.intersect(&r, 0.0, INF).unwrap().t, 2.0); // invariant: the test's own fixed input (a failure fails the test)
     assert!(
         sq.intersect(&ray(v(-1.5, 0.5, 2.0), -DVec3::Z), 0.0, INF)
             .is_none()
     );
     // The spec's uv is a projection on Dx, Dy: at C = (1.9, 0.95, 0)
     // u = 1.9/1/2 + 1/2, v = (1.9 + 0.95)/2/2 + 1/2.
-    let h = sq.intersect(&r, 0.0, INF).unwrap();
+    let h = sq.intersect(&r, 0.0, INF).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     assert_uv(sq.surface(&r, &h).uv, DVec2::new(1.45, 1.2125), 1e-12);
     // A degenerate square (Dx ∥ Dy) is never hit and does not panic.
     let flat = Square::new(DVec3::ZERO, DVec3::X, DVec3::X * 2.0);
@@ -209,13 +209,13 @@ fn shoot_at_box_edges(
         let out = (rot.col(i) * (si * a) + rot.col(j) * (sj * b) + rot.col(k) * g).normalize();
         let dist = size * rng.random_range(0.5..20.0);
         let r = Ray::new(target + out * dist, -out);
-        let got = hit(&r).unwrap_or_else(|| panic!("crack: ray {r:?} entering at {target} missed"));
+        let got = hit(&r).unwrap_or_else(|| panic!("crack: ray {r:?} entering at {target} missed")); // invariant: the test's own fixed input (a failure fails the test)
         assert_close(got.t, dist, 1e-9 * (scale + dist));
         // From inside towards the same point.
         let l = point_in(&mut rng, 0.99) * h;
         let inside = c + rot * l;
         let r = Ray::new(inside, (target - inside).normalize());
-        let got = hit(&r).unwrap_or_else(|| panic!("crack: ray {r:?} leaving at {target} missed"));
+        let got = hit(&r).unwrap_or_else(|| panic!("crack: ray {r:?} leaving at {target} missed")); // invariant: the test's own fixed input (a failure fails the test)
         assert_close(got.t, (target - inside).length(), 1e-9 * scale);
     }
 }
@@ -288,7 +288,7 @@ fn random_edge_point(rng: &mut Pcg64, c: DVec3, rot: DMat3, h: DVec3, m: usize) 
 fn six_square_box_scene_leaks_no_light_through_edges_or_corners() {
     let mut rng = Pcg64::seed_from_u64(51);
     for (c, rot, h) in square_box_configs() {
-        let scene = Scene::parse(&super::common::box_of_squares_text(c, rot, h), ".").unwrap();
+        let scene = Scene::parse(&super::common::box_of_squares_text(c, rot, h), ".").unwrap(); // invariant: the test's own fixed input (a failure fails the test)
         assert_eq!(scene.objects().len(), 6);
         let accel = Accel::build(scene.objects().to_vec());
         let size = h.max_element();
@@ -319,7 +319,7 @@ fn six_square_box_scene_leaks_no_light_through_edges_or_corners() {
             );
             let (_, hit) = accel
                 .intersect(&r, dist)
-                .unwrap_or_else(|| panic!("light leak: {r:?} through {target}"));
+                .unwrap_or_else(|| panic!("light leak: {r:?} through {target}")); // invariant: the test's own fixed input (a failure fails the test)
             if interior {
                 assert_close(hit.t, to.length(), 1e-9 * scale);
             }
@@ -343,7 +343,7 @@ fn six_square_box_scene_leaks_no_light_through_edges_or_corners() {
 fn six_square_box_edge_hits_do_not_double_hit() {
     let mut rng = Pcg64::seed_from_u64(53);
     for (c, rot, h) in square_box_configs() {
-        let scene = Scene::parse(&super::common::box_of_squares_text(c, rot, h), ".").unwrap();
+        let scene = Scene::parse(&super::common::box_of_squares_text(c, rot, h), ".").unwrap(); // invariant: the test's own fixed input (a failure fails the test)
         let accel = Accel::build(scene.objects().to_vec());
         // The nearest hit: distance, point, and the normal facing the ray
         // (squares are two-sided; the renderer nudges along this one).
@@ -377,13 +377,13 @@ fn six_square_box_edge_hits_do_not_double_hit() {
             let d = -out;
             let dist = size * rng.random_range(0.5..20.0);
             let r = Ray::new(target + out * dist, d);
-            let (t, point, side) = first(&r).unwrap_or_else(|| panic!("crack: {r:?}"));
+            let (t, point, side) = first(&r).unwrap_or_else(|| panic!("crack: {r:?}")); // invariant: the test's own fixed input (a failure fails the test)
             assert_close(t, dist, 1e-9 * (scale + dist));
             // Straight on, into the box.
             let next = Ray::off_surface(offset_origin(point, -side), d);
             let (exit, cos) = super::common::box_exit(c, rot, h, next.origin, d);
             let (t2, ..) = first(&next)
-                .unwrap_or_else(|| panic!("no exit after entering at {target}: {next:?}"));
+                .unwrap_or_else(|| panic!("no exit after entering at {target}: {next:?}")); // invariant: the test's own fixed input (a failure fails the test)
             assert!(
                 (t2 - exit).abs() <= 1e-9 * scale / cos,
                 "double hit entering at {target}: went on {next:?}, hit t={t2:e}, exit at {exit}"
@@ -399,7 +399,7 @@ fn six_square_box_edge_hits_do_not_double_hit() {
             // From inside, leaving through the target, then straight on.
             let inside = c + rot * (point_in(&mut rng, 0.99) * h);
             let r = Ray::new(inside, (target - inside).normalize());
-            let (t, point, side) = first(&r).unwrap_or_else(|| panic!("crack: {r:?}"));
+            let (t, point, side) = first(&r).unwrap_or_else(|| panic!("crack: {r:?}")); // invariant: the test's own fixed input (a failure fails the test)
             assert_close(t, (target - inside).length(), 1e-9 * scale);
             let next = Ray::off_surface(offset_origin(point, -side), r.dir);
             // A ray leaving a hair (1e-16 to 1e-10) beside an edge crosses the
@@ -596,7 +596,7 @@ fn cube_closed_form_every_face() {
             let p =
                 c + n * h[axis] + DVec3::AXES[j] * (0.5 * h[j]) + DVec3::AXES[k] * (0.25 * h[k]);
             let r = Ray::new(p + n * 5.0, -n);
-            let hit = cube.intersect(&r, 0.0, INF).unwrap();
+            let hit = cube.intersect(&r, 0.0, INF).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
             assert_eq!(hit.t, 5.0);
             let s = cube.surface(&r, &hit);
             assert_eq!(s.point, p);
@@ -607,11 +607,11 @@ fn cube_closed_form_every_face() {
     }
     // The ±Dx faces use (y, z): at local (1, 1, 1.5) u = 1/2/2 + 1/2, v = 1.5/3/2 + 1/2.
     let r = Ray::new(v(7.0, 3.0, 4.5), -DVec3::X);
-    let hit = cube.intersect(&r, 0.0, INF).unwrap();
+    let hit = cube.intersect(&r, 0.0, INF).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     assert_uv(cube.surface(&r, &hit).uv, DVec2::new(0.75, 0.75), 1e-15);
     // The ±Dy faces use (z, x): at local (0.5, 2, −1.5) u = −1.5/3/2 + 1/2, v = 0.5/1/2 + 1/2.
     let r = Ray::new(v(1.5, 10.0, 1.5), -DVec3::Y);
-    let hit = cube.intersect(&r, 0.0, INF).unwrap();
+    let hit = cube.intersect(&r, 0.0, INF).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     assert_eq!(hit.t, 6.0);
     assert_uv(cube.surface(&r, &hit).uv, DVec2::new(0.25, 0.75), 1e-15);
 }
@@ -626,7 +626,7 @@ fn cube_from_inside_hits_exit_face_with_outward_normal() {
         for sign in [1.0, -1.0] {
             let d = rot.col(axis) * sign;
             let r = Ray::new(c, d);
-            let hit = cube.intersect(&r, 0.0, INF).unwrap();
+            let hit = cube.intersect(&r, 0.0, INF).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
             assert_close(hit.t, h[axis], 1e-14);
             let s = cube.surface(&r, &hit);
             assert_vclose(s.normal, d, 1e-15);
@@ -636,8 +636,8 @@ fn cube_from_inside_hits_exit_face_with_outward_normal() {
     }
     // From outside, a t_min past the entry gives the exit face.
     let r = Ray::new(c - rot.col(0) * 5.0, rot.col(0));
-    assert_close(cube.intersect(&r, 0.0, INF).unwrap().t, 4.0, 1e-13);
-    let exit = cube.intersect(&r, 4.5, INF).unwrap();
+    assert_close(cube.intersect(&r, 0.0, INF).unwrap().t, 4.0, 1e-13); // invariant: the test's own fixed input (a failure fails the test)
+    let exit = cube.intersect(&r, 4.5, INF).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     assert_close(exit.t, 6.0, 1e-13);
     assert_vclose(cube.surface(&r, &exit).normal, rot.col(0), 1e-15);
     assert!(cube.intersect(&r, 6.5, INF).is_none());
@@ -648,34 +648,34 @@ fn cube_edge_corner_and_parallel_rays() {
     let cube = Cube::new(DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::ONE);
     // Along an edge line (in two face planes at once): hits the end face's corner.
     let r = Ray::new(v(1.0, 1.0, -5.0), DVec3::Z);
-    let h = cube.intersect(&r, 0.0, INF).expect("edge-line ray");
+    let h = cube.intersect(&r, 0.0, INF).expect("edge-line ray"); // invariant: the test's own fixed input (a failure fails the test)
     assert_eq!(h.t, 4.0);
     let s = cube.surface(&r, &h);
     assert_eq!(s.point, v(1.0, 1.0, -1.0));
     assert_eq!(s.normal, -DVec3::Z);
     // Parallel to two face pairs, inside their slabs; and sliding on a face plane.
     let r = Ray::new(v(-4.0, 0.3, -0.2), DVec3::X);
-    assert_eq!(cube.intersect(&r, 0.0, INF).unwrap().t, 3.0);
+    assert_eq!(cube.intersect(&r, 0.0, INF).unwrap().t, 3.0); // invariant: the test's own fixed input (a failure fails the test)
     let r = Ray::new(v(-4.0, 1.0, 0.5), DVec3::X);
-    assert_eq!(cube.intersect(&r, 0.0, INF).unwrap().t, 3.0);
+    assert_eq!(cube.intersect(&r, 0.0, INF).unwrap().t, 3.0); // invariant: the test's own fixed input (a failure fails the test)
     // Parallel, a hair outside a slab: miss, not NaN.
     let r = Ray::new(v(-4.0, 1.0 + 1e-15, 0.5), DVec3::X);
     assert!(cube.intersect(&r, 0.0, INF).is_none());
     // Through a corner along the diagonal: t = √3·(5 − 1).
     let r = ray(v(5.0, 5.0, 5.0), v(-1.0, -1.0, -1.0));
-    let h = cube.intersect(&r, 0.0, INF).expect("corner ray");
+    let h = cube.intersect(&r, 0.0, INF).expect("corner ray"); // invariant: the test's own fixed input (a failure fails the test)
     assert_close(h.t, 4.0 * 3f64.sqrt(), 1e-14);
     assert_vclose(cube.surface(&r, &h).point, DVec3::ONE, 1e-14);
     // Through an edge at 45°: enters at (1, 1, 0.5).
     let r = ray(v(3.0, 3.0, 0.5), v(-1.0, -1.0, 0.0));
-    let h = cube.intersect(&r, 0.0, INF).expect("edge ray");
+    let h = cube.intersect(&r, 0.0, INF).expect("edge ray"); // invariant: the test's own fixed input (a failure fails the test)
     assert_close(h.t, 2.0 * 2f64.sqrt(), 1e-14);
     // Origin on a face, leaving: no hit at t = 0, none after.
     let r = Ray::new(v(1.0, 0.0, 0.0), DVec3::X);
     assert!(cube.intersect(&r, 0.0, INF).is_none());
     // Origin on a face, entering: the far face.
     let r = Ray::new(v(1.0, 0.0, 0.0), -DVec3::X);
-    assert_eq!(cube.intersect(&r, 0.0, INF).unwrap().t, 2.0);
+    assert_eq!(cube.intersect(&r, 0.0, INF).unwrap().t, 2.0); // invariant: the test's own fixed input (a failure fails the test)
     // A misses-by-a-lot ray.
     assert!(
         cube.intersect(&ray(v(5.0, 5.0, 5.0), v(1.0, 0.0, 0.0)), 0.0, INF)
@@ -728,7 +728,7 @@ proptest! {
                 // The face: the axis whose slab is active at the hit, if clearly one.
                 let l = rot.transpose() * (s.point - c);
                 let mut d = (l.abs() - h).to_array();
-                let axis = (0..3).max_by(|&a, &b| d[a].total_cmp(&d[b])).unwrap();
+                let axis = (0..3).max_by(|&a, &b| d[a].total_cmp(&d[b])).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
                 d[axis] = -INF;
                 if d.iter().all(|x| *x < -1e-7 * scale) {
                     let n = rot.col(axis) * l[axis].signum();
@@ -760,7 +760,7 @@ fn cylinder_closed_form_side_caps_and_uv() {
     let cyl = Cylinder::new(DVec3::ZERO, v(0.0, 0.0, 2.0), 1.0);
     // Side from outside, at angle π (e1 = x for a z axis, e2 = y): v = 1/2.
     let r = Ray::new(v(-5.0, 0.0, 1.5), DVec3::X);
-    let h = cyl.intersect(&r, 0.0, INF).unwrap();
+    let h = cyl.intersect(&r, 0.0, INF).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     assert_eq!(h.t, 4.0);
     let s = cyl.surface(&r, &h);
     assert_eq!(s.point, v(-1.0, 0.0, 1.5));
@@ -768,26 +768,26 @@ fn cylinder_closed_form_side_caps_and_uv() {
     assert_uv(s.uv, DVec2::new(0.75, 0.5), 1e-15);
     // At angle π/2 (along e2 = y): v = 1/4.
     let r = Ray::new(v(0.0, 5.0, 0.5), -DVec3::Y);
-    let h = cyl.intersect(&r, 0.0, INF).unwrap();
+    let h = cyl.intersect(&r, 0.0, INF).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     let s = cyl.surface(&r, &h);
     assert_eq!(h.t, 4.0);
     assert_vclose(s.normal, DVec3::Y, 1e-15);
     assert_uv(s.uv, DVec2::new(0.25, 0.25), 1e-15);
     // Offset side hit: t = 5 − √(1 − 0.6²) = 4.2.
     let r = Ray::new(v(-5.0, 0.6, 1.0), DVec3::X);
-    let h = cyl.intersect(&r, 0.0, INF).unwrap();
+    let h = cyl.intersect(&r, 0.0, INF).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     assert_close(h.t, 4.2, 1e-15);
     assert_vclose(cyl.surface(&r, &h).normal, v(-0.8, 0.6, 0.0), 1e-15);
     // Caps: top at O2 (+axis), bottom at O1 (−axis), cap uv = 1/2 + (C − P)·e/(2R).
     let r = Ray::new(v(0.5, -0.25, 5.0), -DVec3::Z);
-    let h = cyl.intersect(&r, 0.0, INF).unwrap();
+    let h = cyl.intersect(&r, 0.0, INF).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     assert_eq!(h.t, 3.0);
     let s = cyl.surface(&r, &h);
     assert_eq!(s.normal, DVec3::Z);
     assert_eq!(s.point, v(0.5, -0.25, 2.0));
     assert_uv(s.uv, DVec2::new(0.75, 0.375), 1e-15);
     let r = Ray::new(v(0.5, -0.25, -5.0), DVec3::Z);
-    let h = cyl.intersect(&r, 0.0, INF).unwrap();
+    let h = cyl.intersect(&r, 0.0, INF).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     assert_eq!(h.t, 5.0);
     assert_eq!(cyl.surface(&r, &h).normal, -DVec3::Z);
     // Parallel to the axis: caps only; outside the radius: miss (not NaN).
@@ -801,16 +801,16 @@ fn cylinder_closed_form_side_caps_and_uv() {
     );
     // Along the axis itself.
     let r = Ray::new(v(0.0, 0.0, -5.0), DVec3::Z);
-    let h = cyl.intersect(&r, 0.0, INF).unwrap();
+    let h = cyl.intersect(&r, 0.0, INF).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     assert_eq!((h.t, cyl.surface(&r, &h).normal), (5.0, -DVec3::Z));
     // Through the axis, from inside: exit through the side, outward normal.
     let r = Ray::new(v(0.0, 0.0, 1.0), DVec3::Y);
-    let h = cyl.intersect(&r, 0.0, INF).unwrap();
+    let h = cyl.intersect(&r, 0.0, INF).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     assert_eq!(h.t, 1.0);
     assert_vclose(cyl.surface(&r, &h).normal, DVec3::Y, 1e-15);
     // From inside along the axis: exit through the top cap.
     let r = Ray::new(v(0.2, 0.1, 1.0), DVec3::Z);
-    let h = cyl.intersect(&r, 0.0, INF).unwrap();
+    let h = cyl.intersect(&r, 0.0, INF).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     assert_eq!((h.t, cyl.surface(&r, &h).normal), (1.0, DVec3::Z));
     // Perpendicular to the axis above the top: miss.
     assert!(
@@ -819,7 +819,7 @@ fn cylinder_closed_form_side_caps_and_uv() {
     );
     // Through the rim at 45°, entering: (−1, 0, 2) at distance √2.
     let r = ray(v(-2.0, 0.0, 3.0), v(1.0, 0.0, -1.0));
-    let h = cyl.intersect(&r, 0.0, INF).expect("rim ray");
+    let h = cyl.intersect(&r, 0.0, INF).expect("rim ray"); // invariant: the test's own fixed input (a failure fails the test)
     assert_close(h.t, 2f64.sqrt(), 1e-15);
     assert_vclose(cyl.surface(&r, &h).point, v(-1.0, 0.0, 2.0), 1e-15);
     // Exactly tangent to the rim circle, in the cap plane: either answer is
@@ -852,7 +852,7 @@ fn tilted_cylinder_closed_form() {
     // at distance 7 − 0.5 from a start 7 away.
     let perp = v(2.0, -1.0, 0.0) / 5f64.sqrt();
     let r = Ray::new(o1 + a * 4.0 + perp * 7.0, -perp);
-    let h = cyl.intersect(&r, 0.0, INF).unwrap();
+    let h = cyl.intersect(&r, 0.0, INF).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     assert_close(h.t, 6.5, 1e-14);
     let s = cyl.surface(&r, &h);
     assert_vclose(s.normal, perp, 1e-15);
@@ -864,7 +864,7 @@ fn tilted_cylinder_closed_form() {
     assert_close(s.uv.y, ang / TAU, 1e-15);
     // Along the axis from before O1: the O1 cap, normal −a, at distance 3.
     let r = Ray::new(o1 - a * 3.0 + e1 * 0.2, a);
-    let h = cyl.intersect(&r, 0.0, INF).unwrap();
+    let h = cyl.intersect(&r, 0.0, INF).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     assert_close(h.t, 3.0, 1e-14);
     let s = cyl.surface(&r, &h);
     assert_vclose(s.normal, -a, 1e-15);
@@ -898,7 +898,7 @@ fn cylinder_rim_leaves_no_crack() {
             let r = Ray::new(rim + out * dist, -out);
             let h = cyl
                 .intersect(&r, 0.0, INF)
-                .unwrap_or_else(|| panic!("crack at rim: {r:?}"));
+                .unwrap_or_else(|| panic!("crack at rim: {r:?}")); // invariant: the test's own fixed input (a failure fails the test)
             assert_close(h.t, dist, 1e-9 * (scale + dist));
         }
     }
@@ -917,7 +917,7 @@ const CYLINDERS: [([f64; 3], [f64; 3], f64); 4] = [
 #[track_caller]
 fn expect_hit(got: Option<Hit>, wanted: bool, what: impl Fn() -> String, r: &Ray) -> Option<Hit> {
     if wanted {
-        Some(got.unwrap_or_else(|| panic!("{} missed: {r:?}", what())))
+        Some(got.unwrap_or_else(|| panic!("{} missed: {r:?}", what()))) // invariant: the test's own fixed input (a failure fails the test)
     } else {
         assert!(got.is_none(), "{} hit: {r:?} {got:?}", what());
         None
@@ -1110,7 +1110,7 @@ fn cylinder_exactly_axis_parallel_rays() {
                     match ahead.first() {
                         Some(&(zc, center, normal)) if inside_radius => {
                             let h =
-                                got.unwrap_or_else(|| panic!("axis-parallel ray missed: {r:?}"));
+                                got.unwrap_or_else(|| panic!("axis-parallel ray missed: {r:?}")); // invariant: the test's own fixed input (a failure fails the test)
                             let t = (zc - z0).abs();
                             assert_close(h.t, t, 1e-9 * scale);
                             let sp = cyl.surface(&r, &h);
@@ -1179,7 +1179,7 @@ proptest! {
                 let z = q.dot(a);
                 let rad = q - a * z;
                 let pieces = [rad.length() - radius, -z, z - len];
-                let k = (0..3).max_by(|&x, &y| pieces[x].total_cmp(&pieces[y])).unwrap();
+                let k = (0..3).max_by(|&x, &y| pieces[x].total_cmp(&pieces[y])).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
                 let clear = (0..3).all(|j| j == k || pieces[j] < -1e-7 * scale);
                 if clear {
                     let (n, uv) = match k {
@@ -1208,7 +1208,7 @@ fn triangle_closed_form_both_sides_and_smooth_normals() {
     let o = v(1.0, 1.0, 1.0);
     let tri = Triangle::new(o, o + DVec3::X, o + DVec3::Y, None);
     let r = Ray::new(v(1.25, 1.5, 3.0), -DVec3::Z);
-    let h = tri.intersect(&r, 0.0, INF).unwrap();
+    let h = tri.intersect(&r, 0.0, INF).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     assert_eq!(h.t, 2.0);
     assert_close(h.u, 0.25, 1e-15);
     assert_close(h.v, 0.5, 1e-15);
@@ -1219,7 +1219,7 @@ fn triangle_closed_form_both_sides_and_smooth_normals() {
     assert_uv(s.uv, DVec2::new(0.25, 0.5), 1e-15);
     // From behind: hit, same (geometric, winding) normal.
     let r = Ray::new(v(1.25, 1.5, -3.0), DVec3::Z);
-    let h = tri.intersect(&r, 0.0, INF).unwrap();
+    let h = tri.intersect(&r, 0.0, INF).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     assert_eq!(h.t, 4.0);
     assert_eq!(tri.surface(&r, &h).normal, DVec3::Z);
     // Outside the hypotenuse, behind, parallel: misses.
@@ -1243,7 +1243,7 @@ fn triangle_closed_form_both_sides_and_smooth_normals() {
     ];
     let smooth = Triangle::new(o, o + DVec3::X, o + DVec3::Y, Some(ns));
     let r = Ray::new(v(1.25, 1.5, 3.0), -DVec3::Z);
-    let h = smooth.intersect(&r, 0.0, INF).unwrap();
+    let h = smooth.intersect(&r, 0.0, INF).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     let s = smooth.surface(&r, &h);
     let expect = (ns[0] * 0.25 + ns[1] * 0.25 + ns[2] * 0.5).normalize();
     assert_vclose(s.shading_normal, expect, 1e-15);
@@ -1392,13 +1392,13 @@ fn shoot_at_mesh_edges(
         let inside = center + point_in(&mut rng, 1.0) * (inner / 3f64.sqrt());
         let r = Ray::new(inside, (target - inside).normalize());
         let (_, h) = nearest(&tris, &r, |t, r, a, b| t.intersect(r, a, b))
-            .unwrap_or_else(|| panic!("crack: ray {r:?} from inside at {target} missed"));
+            .unwrap_or_else(|| panic!("crack: ray {r:?} from inside at {target} missed")); // invariant: the test's own fixed input (a failure fails the test)
         assert_close(h.t, (target - inside).length(), 1e-9 * scale);
         // From outside through the same point towards the inside point.
         let dist = size * rng.random_range(0.1..10.0);
         let r = Ray::new(target + r.dir * dist, -r.dir);
         let (_, h) = nearest(&tris, &r, |t, r, a, b| t.intersect(r, a, b))
-            .unwrap_or_else(|| panic!("crack: ray {r:?} entering at {target} missed"));
+            .unwrap_or_else(|| panic!("crack: ray {r:?} entering at {target} missed")); // invariant: the test's own fixed input (a failure fails the test)
         assert_close(h.t, dist, 1e-9 * (scale + dist));
     }
 }
@@ -1433,7 +1433,7 @@ fn octahedron_and_icosphere_meshes_leave_no_crack() {
             let t = Triangle::new(verts[f[0]], verts[f[1]], verts[f[2]], None);
             let centroid = (verts[f[0]] + verts[f[1]] + verts[f[2]]) / 3.0;
             let r = Ray::new(center, (centroid - center).normalize());
-            let hit = t.intersect(&r, 0.0, INF).unwrap();
+            let hit = t.intersect(&r, 0.0, INF).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
             assert!(t.surface(&r, &hit).normal.dot(centroid - center) > 0.0);
         }
     }
@@ -1444,13 +1444,13 @@ fn octahedron_and_icosphere_meshes_leave_no_crack() {
 /// A fresh temporary folder for this test process.
 fn temp_dir(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("glint-geometry-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::create_dir_all(&dir).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     dir
 }
 
 fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
     let p = dir.join(name);
-    std::fs::write(&p, text).unwrap();
+    std::fs::write(&p, text).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     p
 }
 
@@ -1477,7 +1477,7 @@ fn obj_transform_order_normals_and_degenerates() {
     let scale = v(2.0, 3.0, 4.0);
     // Rx(π/2) then Rz(π/2): (x, y, z) → (x, −z, y) → (z, x, y).
     let rotation = v(PI / 2.0, 0.0, PI / 2.0);
-    let tris = load_obj(&path, origin, scale, rotation).unwrap();
+    let tris = load_obj(&path, origin, scale, rotation).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     assert_eq!(
         tris.len(),
         3,
@@ -1505,7 +1505,7 @@ fn obj_transform_order_normals_and_degenerates() {
     // (1, 2, 3) → scaled (2, 6, 12) → (12, 2, 6) + origin.
     let smooth = &tris[2];
     assert_vclose(smooth.vertices[0], v(22.0, 22.0, 36.0), 1e-12);
-    let ns = smooth.normals().expect("vertex normals kept");
+    let ns = smooth.normals().expect("vertex normals kept"); // invariant: the test's own fixed input (a failure fails the test)
     // (0,0,1): S⁻¹ keeps it, then → (1, 0, 0).
     assert_vclose(ns[0], DVec3::X, 1e-12);
     // (1,1,0): S⁻¹ → (1/2, 1/3, 0), normalised, then (x, y, z) → (z, x, y).
@@ -1513,7 +1513,7 @@ fn obj_transform_order_normals_and_degenerates() {
     assert_vclose(ns[2], v(m.z, m.x, m.y), 1e-12);
     // Its winding normal was (0,0,1) too: after the transform it still agrees with the vertex normals.
     let r = Ray::new(smooth.vertices[0] + v(5.0, 0.2, 0.2), -DVec3::X);
-    let hit = smooth.intersect(&r, 0.0, INF).unwrap();
+    let hit = smooth.intersect(&r, 0.0, INF).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     let s = smooth.surface(&r, &hit);
     assert!(s.normal.dot(ns[0]) > 0.99);
     let _ = std::fs::remove_dir_all(&dir);
@@ -1528,17 +1528,17 @@ fn obj_winding_follows_normals_and_mirroring_keeps_outside() {
         "w.obj",
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 -1\nf 1//1 2//1 3//1\n",
     );
-    let tris = load_obj(&path, DVec3::ZERO, DVec3::ONE, DVec3::ZERO).unwrap();
+    let tris = load_obj(&path, DVec3::ZERO, DVec3::ONE, DVec3::ZERO).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     let r = Ray::new(v(0.2, 0.2, 1.0), -DVec3::Z);
-    let h = tris[0].intersect(&r, 0.0, INF).unwrap();
+    let h = tris[0].intersect(&r, 0.0, INF).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     let s = tris[0].surface(&r, &h);
     assert_vclose(s.normal, -DVec3::Z, 1e-15);
     assert_vclose(s.shading_normal, -DVec3::Z, 1e-15);
     // No normals, mirrored in x: the plane z = 0 keeps its +z outside.
     let path = write(&dir, "m.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
-    let tris = load_obj(&path, DVec3::ZERO, v(-1.0, 1.0, 1.0), DVec3::ZERO).unwrap();
+    let tris = load_obj(&path, DVec3::ZERO, v(-1.0, 1.0, 1.0), DVec3::ZERO).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     let r = Ray::new(v(-0.2, 0.2, 1.0), -DVec3::Z);
-    let h = tris[0].intersect(&r, 0.0, INF).unwrap();
+    let h = tris[0].intersect(&r, 0.0, INF).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     assert_vclose(tris[0].surface(&r, &h).normal, DVec3::Z, 1e-15);
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -1571,11 +1571,11 @@ fn obj_errors_are_messages_not_panics() {
         assert!(e.contains(line), "{text:?}: {e}");
     }
     let p = dir.join("utf8.obj");
-    std::fs::write(&p, b"v 0 0 0\nv 1 0 0\n\nv 0 1 0 \xff\n").unwrap();
+    std::fs::write(&p, b"v 0 0 0\nv 1 0 0\n\nv 0 1 0 \xff\n").unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     let e = load_obj(&p, DVec3::ZERO, DVec3::ONE, DVec3::ZERO).unwrap_err();
     assert!(e.contains("line 4:"), "{e}");
     let p = dir.join("nul.obj");
-    std::fs::write(&p, vec![0u8; (1 << 20) + 10]).unwrap();
+    std::fs::write(&p, vec![0u8; (1 << 20) + 10]).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     let e = load_obj(&p, DVec3::ZERO, DVec3::ONE, DVec3::ZERO).unwrap_err();
     assert!(e.contains("line 1 is longer than 1 MiB"), "{e}");
     let e = load_obj(&dir, DVec3::ZERO, DVec3::ONE, DVec3::ZERO).unwrap_err();
@@ -1601,7 +1601,7 @@ fn shipped_meshes_load() {
         DVec3::splat(240.0),
         v(1.6, 0.0, -1.0),
     )
-    .unwrap();
+    .unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     eprintln!("bunny: {} triangles in {:?}", tris.len(), start.elapsed());
     assert!(
         tris.len() > 69_000 && tris.len() <= 69_451,
@@ -1629,7 +1629,7 @@ fn shipped_meshes_load() {
     );
     for lucy in ["lucy3_tris_normalized.obj", "lucy3_tris_smooth.obj"] {
         let path = meshes.join(lucy);
-        let tris = load_obj(&path, DVec3::ZERO, DVec3::splat(3.0), DVec3::ZERO).unwrap();
+        let tris = load_obj(&path, DVec3::ZERO, DVec3::splat(3.0), DVec3::ZERO).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
         assert!(
             tris.len() > 33_000 && tris.len() <= 33_446,
             "{lucy}: {} triangles",
@@ -1679,7 +1679,7 @@ fn cube_edges_and_cylinder_rims_do_not_double_hit() {
             h.y,
             h.z
         );
-        let scene = Scene::parse(&text, ".").unwrap();
+        let scene = Scene::parse(&text, ".").unwrap(); // invariant: the test's own fixed input (a failure fails the test)
         let accel = Accel::build(scene.objects().to_vec());
         let scale = c.abs().max_element() + h.max_element();
         for m in 0..2000 {
@@ -1706,7 +1706,7 @@ fn cube_edges_and_cylinder_rims_do_not_double_hit() {
                 .normalize();
             let r = Ray::new(target + out * (h.max_element() * 3.0), -out);
             let (next, t2) = continued(&accel, scene.objects(), &r)
-                .unwrap_or_else(|| panic!("no exit after entering the cube at {target}"));
+                .unwrap_or_else(|| panic!("no exit after entering the cube at {target}")); // invariant: the test's own fixed input (a failure fails the test)
             let (exit, cos) = super::common::box_exit(c, rot, h, next.origin, next.dir);
             assert!(
                 (t2 - exit).abs() <= 1e-9 * scale / cos,
@@ -1725,7 +1725,7 @@ fn cube_edges_and_cylinder_rims_do_not_double_hit() {
             super::common::scene_vec(o1),
             super::common::scene_vec(o2)
         );
-        let scene = Scene::parse(&text, ".").unwrap();
+        let scene = Scene::parse(&text, ".").unwrap(); // invariant: the test's own fixed input (a failure fails the test)
         let accel = Accel::build(scene.objects().to_vec());
         let axis = (o2 - o1).normalize();
         let length = (o2 - o1).length();
@@ -1744,7 +1744,7 @@ fn cube_edges_and_cylinder_rims_do_not_double_hit() {
             .normalize();
             let r = Ray::new(target + out * (length + radius) * 3.0, -out);
             let (next, t2) = continued(&accel, scene.objects(), &r)
-                .unwrap_or_else(|| panic!("no exit after entering the cylinder at {target}"));
+                .unwrap_or_else(|| panic!("no exit after entering the cylinder at {target}")); // invariant: the test's own fixed input (a failure fails the test)
             // Exit from inside: the cap plane ahead, or the side's far root.
             let (s, d) = (next.origin - o1, next.dir);
             let (sa, da) = (s.dot(axis), d.dot(axis));

@@ -19,7 +19,7 @@ fn at(point: DVec3) -> ShadowFrom {
 }
 
 fn scene(text: &str) -> Scene {
-    Scene::parse(text, ".").unwrap_or_else(|e| panic!("{e}"))
+    Scene::parse(text, ".").unwrap_or_else(|e| panic!("{e}")) // invariant: the test's own fixed input (a failure fails the test)
 }
 
 /// The shade factor of light `light` at `point` (on a surface facing +z)

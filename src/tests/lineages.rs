@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 /// A fresh temporary folder.
 fn temp_dir(what: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("glint-lin-{what}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::create_dir_all(&dir).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     dir
 }
 
@@ -22,12 +22,12 @@ fn parse_in(dir: &Path, text: &str) -> Result<Scene, SceneError> {
 }
 
 fn ok_in(dir: &Path, text: &str) -> Scene {
-    parse_in(dir, text).unwrap_or_else(|e| panic!("expected the scene to parse:\n{e}"))
+    parse_in(dir, text).unwrap_or_else(|e| panic!("expected the scene to parse:\n{e}")) // invariant: the test's own fixed input (a failure fails the test)
 }
 
 fn errors_in(dir: &Path, text: &str) -> Vec<Diagnostic> {
     match parse_in(dir, text) {
-        Ok(s) => panic!("expected errors, got a scene with {:?}", s.warnings()),
+        Ok(s) => panic!("expected errors, got a scene with {:?}", s.warnings()), // invariant: the test's own fixed input (a failure fails the test)
         Err(e) => e.errors().cloned().collect(),
     }
 }
@@ -49,7 +49,7 @@ fn surface_towards(shape: &Shape, from: DVec3, to: DVec3) -> SurfacePoint {
     let ray = Ray::new(from, (to - from).normalize());
     let hit: Hit = shape
         .intersect(&ray, 0.0, f64::INFINITY)
-        .expect("the ray hits");
+        .expect("the ray hits"); // invariant: the test's own fixed input (a failure fails the test)
     shape.surface(&ray, &hit)
 }
 
@@ -102,7 +102,7 @@ fn nomal_plane_normals_match_hand_values() {
     ];
     for (n, red, green) in cases {
         let text = format!("primitive plane\n N= {} {} {}\n R= 1\nend\n", n.x, n.y, n.z);
-        let scene = Scene::parse(&text, ".").unwrap();
+        let scene = Scene::parse(&text, ".").unwrap(); // invariant: the test's own fixed input (a failure fails the test)
         let shape = scene.objects()[0].shape();
         let s = surface_towards(shape, n * 5.0 + DVec3::new(0.1, 0.2, 0.3), n * 0.0);
         assert!(close(shape.mapped_normal(&s, RED), red), "{n}: red");
@@ -155,7 +155,7 @@ fn triangle_normal_map_frame_follows_its_texture_coordinates() {
 fn write_bmp(path: &Path, rgb: [u8; 3]) {
     image::RgbImage::from_pixel(2, 2, image::Rgb(rgb))
         .save(path)
-        .unwrap();
+        .unwrap(); // invariant: the test's own fixed input (a failure fails the test)
 }
 
 /// `NT=` is a material key: it loads like `texture=`, reaches the material
@@ -221,7 +221,7 @@ fn v_bezier_maps_onto_the_bezier_surface() {
         "primitive Bezier\n O= 0 5.2 -2.0\n R= 0.2\n ratio= 0.033\nend\n",
     );
     let Shape::Bezier(b) = s.objects()[0].shape() else {
-        panic!("not a bezier");
+        panic!("not a bezier"); // invariant: the test's own fixed input (a failure fails the test)
     };
     assert!(
         (b.o1 - DVec3::new(0.0, 5.2, -0.746)).length() < 1e-12,
@@ -236,7 +236,7 @@ fn v_bezier_maps_onto_the_bezier_surface() {
         let text =
             "primitive Bezier\n O= 0 0 0\n R= 0.2\n ratio= 0.033\nend\n".replace(missing, "");
         let e = errors_in(Path::new("."), &text);
-        let key = missing.split('=').next().unwrap();
+        let key = missing.split('=').next().unwrap(); // invariant: the test's own fixed input (a failure fails the test)
         assert!(
             e.len() == 1 && e[0].message.contains(&format!("`{key}=`")),
             "{e:?}"
@@ -253,7 +253,7 @@ fn rectangle_blocks() {
         "primitive rectangle\n N= 0 0 2\n R= 1\n Dx= 3 0 0\n Dy= 0 2 0\nend\n",
     );
     let Shape::Rectangle(r) = s.objects()[0].shape() else {
-        panic!("not a rectangle");
+        panic!("not a rectangle"); // invariant: the test's own fixed input (a failure fails the test)
     };
     let b = r.bounds();
     assert!((b.min - DVec3::new(0.0, 0.0, 1.0)).length() < 1e-9, "{b:?}");
@@ -303,8 +303,8 @@ newmtl glass\nKd 0.8 0.8 0.8\nTf 0.5 0.75 1\nNi 1.5\nmap_bump bump.bmp\n";
 #[test]
 fn polyhedron_faces_take_their_mtl_materials() {
     let dir = temp_dir("mtl");
-    std::fs::write(dir.join("m.obj"), OBJ).unwrap();
-    std::fs::write(dir.join("m.mtl"), MTL).unwrap();
+    std::fs::write(dir.join("m.obj"), OBJ).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
+    std::fs::write(dir.join("m.mtl"), MTL).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     let s = ok_in(
         &dir,
         "primitive polyhedron\n mesh= m.obj\n color= 0 1 0\n diff= 0.9\nend\n",
@@ -346,7 +346,7 @@ fn polyhedron_missing_files_are_errors_naming_them() {
         e.len() == 1 && e[0].line == 3 && e[0].message.contains("m.obj"),
         "{e:?}"
     );
-    std::fs::write(dir.join("m.obj"), OBJ).unwrap();
+    std::fs::write(dir.join("m.obj"), OBJ).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     let e = errors_in(&dir, block);
     assert!(e.len() == 1 && e[0].line == 3, "{e:?}");
     assert!(
@@ -354,13 +354,13 @@ fn polyhedron_missing_files_are_errors_naming_them() {
         "{}",
         e[0]
     );
-    std::fs::write(dir.join("m.mtl"), "newmtl red\nmap_Kd absent.bmp\n").unwrap();
+    std::fs::write(dir.join("m.mtl"), "newmtl red\nmap_Kd absent.bmp\n").unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     let e = errors_in(&dir, block);
     assert!(
         e.len() == 1 && e[0].line == 3 && e[0].message.contains("absent.bmp"),
         "{e:?}"
     );
-    std::fs::write(dir.join("m.mtl"), "newmtl red\nKs\n").unwrap();
+    std::fs::write(dir.join("m.mtl"), "newmtl red\nKs\n").unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     let e = errors_in(&dir, block);
     assert!(e.len() == 1 && e[0].message.contains("line 2"), "{e:?}");
     let _ = std::fs::remove_dir_all(&dir);
@@ -373,12 +373,12 @@ fn meshes_with_comments_in_a_local_encoding_load() {
     let mut obj =
         b"# exporter\r\n# \xb4\xb4\xbd\xa8: 21.06\r\nv 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nf 1 2 3\r\n"
             .to_vec();
-    std::fs::write(dir.join("g.obj"), &obj).unwrap();
+    std::fs::write(dir.join("g.obj"), &obj).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     let s = ok_in(&dir, "primitive polyhedron\n mesh= g.obj\nend\n");
     assert_eq!(s.objects().len(), 1);
     // A bad byte outside a comment is still an error at its line.
     obj.extend_from_slice(b"f 1 2 \xb4\r\n");
-    std::fs::write(dir.join("g.obj"), &obj).unwrap();
+    std::fs::write(dir.join("g.obj"), &obj).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     let e = errors_in(&dir, "primitive polyhedron\n mesh= g.obj\nend\n");
     assert!(e[0].message.contains("line 7"), "{}", e[0]);
     let _ = std::fs::remove_dir_all(&dir);

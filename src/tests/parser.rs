@@ -20,12 +20,13 @@ fn parse(text: &str) -> Result<Scene, SceneError> {
 fn ok(text: &str) -> Scene {
     match parse(text) {
         Ok(s) => s,
-        Err(e) => panic!("expected the scene to parse:\n{e}"),
+        Err(e) => panic!("expected the scene to parse:\n{e}"), // invariant: the test's own fixed input (a failure fails the test)
     }
 }
 
 fn diagnostics(text: &str) -> Vec<Diagnostic> {
     match parse(text) {
+        // invariant: the test's own fixed input (a failure fails the test)
         Ok(s) => panic!(
             "expected errors, got a scene with warnings {:?}",
             s.warnings()
@@ -45,7 +46,7 @@ fn errors(text: &str) -> Vec<Diagnostic> {
 fn error_at(text: &str, line: usize, column: usize) -> Diagnostic {
     let errs = errors(text);
     assert_eq!(errs.len(), 1, "expected exactly one error, got {errs:#?}");
-    let d = errs.into_iter().next().unwrap();
+    let d = errs.into_iter().next().unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     assert_eq!(
         (d.line, d.column),
         (line, column),
@@ -197,7 +198,7 @@ end
     assert_eq!((m.diff, m.spec, m.refl, m.drefl), (0.4, 0.5, 0.6, 0.7));
     assert_eq!((m.refr, m.rindex), (0.8, 1.5));
     assert_eq!(m.absor, v(0.01, 0.02, 0.03));
-    let t = &s.textures()[m.texture.unwrap() as usize];
+    let t = &s.textures()[m.texture.unwrap() as usize]; // invariant: the test's own fixed input (a failure fails the test)
     assert_eq!((t.width(), t.height()), (2, 2));
     // Row 0 is the bottom row of the BMP: red, then green; the framework
     // divides a byte by 256 (its `bmp.h`), so 255 reads as 255/256.
@@ -222,13 +223,13 @@ fn material_defaults_are_zero() {
 fn sphere_keys() {
     let s = ok("primitive sphere\n O= 1 2 3\n R= 0.5\n De= 0 0 2\n Dc= 3 0 0\nend");
     let Shape::Sphere(sp) = &s.objects()[0].shape else {
-        panic!("not a sphere")
+        panic!("not a sphere") // invariant: the test's own fixed input (a failure fails the test)
     };
     assert_eq!((sp.center, sp.radius), (v(1.0, 2.0, 3.0), 0.5));
     assert_eq!((sp.de(), sp.dc()), (DVec3::Z, DVec3::X));
     let s = ok("primitive sphere\n R= 1\nend");
     let Shape::Sphere(sp) = &s.objects()[0].shape else {
-        panic!("not a sphere")
+        panic!("not a sphere") // invariant: the test's own fixed input (a failure fails the test)
     };
     assert_eq!(
         (sp.center, sp.de(), sp.dc()),
@@ -240,7 +241,7 @@ fn sphere_keys() {
 fn plane_keys() {
     let s = ok("primitive plane\n N= 0 0 -2\n R= -4\n Dx= 8 0 0\n Dy= 0 8 0\nend");
     let Shape::Plane(p) = &s.objects()[0].shape else {
-        panic!("not a plane")
+        panic!("not a plane") // invariant: the test's own fixed input (a failure fails the test)
     };
     assert_eq!((p.normal, p.offset), (-DVec3::Z, -4.0));
     assert_eq!((p.dx, p.dy), (v(8.0, 0.0, 0.0), v(0.0, 8.0, 0.0)));
@@ -260,7 +261,7 @@ fn plane_default_texture_axes_are_perpendicular_and_follow_n() {
         );
         let s = ok(&text);
         let Shape::Plane(p) = &s.objects()[0].shape else {
-            panic!("not a plane")
+            panic!("not a plane") // invariant: the test's own fixed input (a failure fails the test)
         };
         let nu = n.normalize();
         assert!(
@@ -279,7 +280,7 @@ fn plane_default_texture_axes_are_perpendicular_and_follow_n() {
     }
     let s = ok("primitive plane\n N= 0 0 1\nend");
     let Shape::Plane(p) = &s.objects()[0].shape else {
-        panic!("not a plane")
+        panic!("not a plane") // invariant: the test's own fixed input (a failure fails the test)
     };
     assert_eq!((p.dx, p.dy, p.offset), (DVec3::X, DVec3::Y, 0.0));
 }
@@ -288,7 +289,7 @@ fn plane_default_texture_axes_are_perpendicular_and_follow_n() {
 fn square_keys() {
     let s = ok("primitive square\n O= 1 1 1\n Dx= 2 0 0\n Dy= 0 0 3\nend");
     let Shape::Square(q) = &s.objects()[0].shape else {
-        panic!("not a square")
+        panic!("not a square") // invariant: the test's own fixed input (a failure fails the test)
     };
     assert_eq!(
         (q.center, q.dx, q.dy),
@@ -306,7 +307,7 @@ fn cube_keys_orthonormal_input_is_kept_without_warning() {
     let s = ok(&text);
     assert!(s.warnings().is_empty(), "{:?}", s.warnings());
     let Shape::Cube(b) = &s.objects()[0].shape else {
-        panic!("not a cube")
+        panic!("not a cube") // invariant: the test's own fixed input (a failure fails the test)
     };
     assert_eq!(b.center, v(1.0, 2.0, 3.0));
     assert_eq!(b.half, v(1.0, 2.0, 3.0));
@@ -319,7 +320,7 @@ fn cube_axes_are_orthonormalised_with_warnings_at_the_keys() {
     let text = "primitive cube\n Dx= 2 0 0\n Dy= 1 1 0\n x= 1\n y= 1\n z= 1\nend";
     let s = ok(text);
     let Shape::Cube(b) = &s.objects()[0].shape else {
-        panic!("not a cube")
+        panic!("not a cube") // invariant: the test's own fixed input (a failure fails the test)
     };
     assert!(close(b.axes[0], DVec3::X), "{:?}", b.axes);
     assert!(close(b.axes[1], DVec3::Y), "{:?}", b.axes);
@@ -329,7 +330,7 @@ fn cube_axes_are_orthonormalised_with_warnings_at_the_keys() {
     // Unit but not perpendicular: only Dy is adjusted.
     let s = ok("primitive cube\n Dx= 0 1 0\n Dy= 0.6 0.8 0\n x= 1\n y= 1\n z= 1\nend");
     let Shape::Cube(b) = &s.objects()[0].shape else {
-        panic!("not a cube")
+        panic!("not a cube") // invariant: the test's own fixed input (a failure fails the test)
     };
     assert!(
         close(b.axes[0], DVec3::Y) && close(b.axes[1], DVec3::X),
@@ -341,7 +342,7 @@ fn cube_axes_are_orthonormalised_with_warnings_at_the_keys() {
     // Without Dx/Dy the box is axis-aligned.
     let s = ok("primitive cube\n x= 1\n y= 1\n z= 1\nend");
     let Shape::Cube(b) = &s.objects()[0].shape else {
-        panic!("not a cube")
+        panic!("not a cube") // invariant: the test's own fixed input (a failure fails the test)
     };
     assert_eq!(b.axes, [DVec3::X, DVec3::Y, DVec3::Z]);
 }
@@ -350,7 +351,7 @@ fn cube_axes_are_orthonormalised_with_warnings_at_the_keys() {
 fn cylinder_keys() {
     let s = ok("primitive cylinder\n O1= 0 0 0\n O2= 0 0 2\n R= 0.5\nend");
     let Shape::Cylinder(c) = &s.objects()[0].shape else {
-        panic!("not a cylinder")
+        panic!("not a cylinder") // invariant: the test's own fixed input (a failure fails the test)
     };
     assert_eq!((c.o1, c.o2, c.radius), (DVec3::ZERO, v(0.0, 0.0, 2.0), 0.5));
 }
@@ -364,7 +365,7 @@ fn bezier_p_lines_accumulate_in_order_with_or_without_cylinder() {
         let s = ok(&text);
         assert!(s.warnings().is_empty(), "{:?}", s.warnings());
         let Shape::Bezier(b) = &s.objects()[0].shape else {
-            panic!("not a bezier")
+            panic!("not a bezier") // invariant: the test's own fixed input (a failure fails the test)
         };
         assert_eq!((b.o1, b.o2), (v(80.0, -10.0, 0.0), v(80.0, -10.0, 30.0)));
         let p = |z, r| DVec2::new(z, r);
@@ -379,7 +380,7 @@ fn bezier_p_lines_accumulate_in_order_with_or_without_cylinder() {
 fn triangle_keys() {
     let s = ok("primitive triangle\n O1= 0 0 0\n O2= 1 0 0\n O3= 0 1 0\nend");
     let Shape::Triangle(t) = &s.objects()[0].shape else {
-        panic!("not a triangle")
+        panic!("not a triangle") // invariant: the test's own fixed input (a failure fails the test)
     };
     assert_eq!(t.vertices, [DVec3::ZERO, DVec3::X, DVec3::Y]);
     assert_eq!(t.normals(), None);
@@ -645,7 +646,7 @@ end#done
     );
     assert_eq!(s.objects().len(), 2);
     let Shape::Sphere(sp) = &s.objects()[0].shape else {
-        panic!("not a sphere")
+        panic!("not a sphere") // invariant: the test's own fixed input (a failure fails the test)
     };
     assert_eq!((sp.center, sp.radius), (v(1.0, 2.0, 3.0), 2.0));
     assert_eq!(s.textures().len(), 1);
@@ -688,7 +689,7 @@ fn columns_stay_right_before_glued_comments() {
 /// and says so as the ordinary reading says of a missing file.
 #[test]
 fn a_reading_without_files_finds_none() {
-    let abs = std::fs::canonicalize(Path::new(DATA).join("tri.obj")).unwrap();
+    let abs = std::fs::canonicalize(Path::new(DATA).join("tri.obj")).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     let abs = abs.display();
     let text = format!(
         "primitive sphere\n R= 1\n texture= tiny.bmp\nend\n\
@@ -700,7 +701,7 @@ fn a_reading_without_files_finds_none() {
     let s = ok(&text);
     assert_eq!((s.textures().len(), s.objects().len()), (1, 3));
     let e = match crate::format::parse_text(&text, None, Path::new(DATA), None, false) {
-        Ok(_) => panic!("a reading without files found them"),
+        Ok(_) => panic!("a reading without files found them"), // invariant: the test's own fixed input (a failure fails the test)
         Err(e) => e,
     };
     let lines: Vec<(usize, bool)> = e
@@ -738,7 +739,7 @@ fn number_forms() {
     assert_eq!(s.camera().width, 1000);
     let s = ok("primitive sphere\n O= -.25 +.75 -0\n R= 2.5e+0\nend");
     let Shape::Sphere(sp) = &s.objects()[0].shape else {
-        panic!("not a sphere")
+        panic!("not a sphere") // invariant: the test's own fixed input (a failure fails the test)
     };
     assert_eq!((sp.center, sp.radius), (v(-0.25, 0.75, 0.0), 2.5));
 }
@@ -755,7 +756,7 @@ fn any_key_order_and_later_keys_override() {
     color= 0 0 1
 end");
     let Shape::Sphere(sp) = &s.objects()[0].shape else {
-        panic!("not a sphere")
+        panic!("not a sphere") // invariant: the test's own fixed input (a failure fails the test)
     };
     assert_eq!((sp.center, sp.radius), (DVec3::ONE, 2.0));
     let m = s.material(0);
@@ -850,7 +851,7 @@ fn unknown_block_and_type_with_did_you_mean() {
         "{d}"
     );
     let d = warning_at(&format!("\nlight spot\n O= 0 0 0\nend\n{sphere}"), 2, 1);
-    assert!(d.help.unwrap().contains("`point`"));
+    assert!(d.help.unwrap().contains("`point`")); // invariant: the test's own fixed input (a failure fails the test)
     let d = warning_at(&format!("primtive sphere\n R= 1\nend\n{sphere}"), 1, 1);
     assert_eq!(d.help.as_deref(), Some("did you mean `primitive`?"));
     let d = warning_at(&format!("primitive\nend\n{sphere}"), 1, 11);
@@ -887,7 +888,7 @@ fn a_block_without_end_points_at_its_header() {
     // blamed, and both blocks are read.
     let text = "primitive sphere\n R= 1\nprimitive sphere\n R= 2\nend";
     let d = warning_at(text, 1, 1);
-    assert!(d.help.unwrap().contains("before line 3"));
+    assert!(d.help.unwrap().contains("before line 3")); // invariant: the test's own fixed input (a failure fails the test)
     assert_eq!(ok(text).objects().len(), 2);
 }
 
@@ -1164,7 +1165,7 @@ fn refraction_without_index_is_warned() {
     let text = "primitive sphere\n R= 1\n rindex= -2\n refr= 0.5\nend";
     warning_at(text, 3, 2);
     assert_eq!(ok(text).material(0).rindex, -2.0);
-    let lineage = Scene::parse_as(text, DATA, Some(crate::scene::Dialect::Pm3)).unwrap();
+    let lineage = Scene::parse_as(text, DATA, Some(crate::scene::Dialect::Pm3)).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     assert!(
         lineage
             .warnings()
@@ -1252,7 +1253,7 @@ fn textures_are_found_beside_the_scene_first_then_in_the_working_directory() {
         "primitive sphere\n R= 1\n texture= tests/data/tiny.bmp\nend",
         "no/such/folder",
     )
-    .unwrap();
+    .unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     assert_eq!(s.textures().len(), 1);
     assert!(
         s.notes().iter().any(|n| n.contains("working directory")),
@@ -1284,10 +1285,10 @@ end";
     assert_eq!(s.objects().len(), 2);
     assert_eq!(s.objects()[1].block(), Some(1));
     let Shape::Triangle(t) = &s.objects()[1].shape else {
-        panic!("not a triangle")
+        panic!("not a triangle") // invariant: the test's own fixed input (a failure fails the test)
     };
     let mut corners = t.vertices.map(|p| p.to_array());
-    corners.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    corners.sort_by(|a, b| a.partial_cmp(b).unwrap()); // invariant: the test's own fixed input (a failure fails the test)
     let want = [[10.0, 20.0, 30.0], [10.0, 23.0, 30.0], [12.0, 20.0, 30.0]];
     assert_eq!(corners, want);
 }
@@ -1299,7 +1300,7 @@ fn shared_scene_texts() -> &'static [String] {
         ["framework", "community"]
             .into_iter()
             .flat_map(corpus_scenes)
-            .map(|p| std::fs::read_to_string(p).unwrap())
+            .map(|p| std::fs::read_to_string(p).unwrap()) // invariant: the test's own fixed input (a failure fails the test)
             .collect()
     })
 }
@@ -1321,10 +1322,10 @@ fn shared_scene_files_parse() {
         for path in corpus_scenes(folder) {
             let s = match Scene::from_file(&path) {
                 Ok(s) => s,
-                Err(e) => panic!("{} does not parse:\n{e}", path.display()),
+                Err(e) => panic!("{} does not parse:\n{e}", path.display()), // invariant: the test's own fixed input (a failure fails the test)
             };
             assert!(!s.objects().is_empty(), "{}", path.display());
-            let name = path.file_name().unwrap().to_string_lossy();
+            let name = path.file_name().unwrap().to_string_lossy(); // invariant: the test's own fixed input (a failure fails the test)
             if let Some(&(_, n)) = known_warnings.iter().find(|(k, _)| *k == name) {
                 seen += 1;
                 assert_eq!(
@@ -1347,7 +1348,7 @@ fn scene1_in_detail() {
     let Some(dir) = corpus("framework") else {
         return;
     };
-    let s = Scene::from_file(dir.join("scene1.txt")).unwrap();
+    let s = Scene::from_file(dir.join("scene1.txt")).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     assert!(s.warnings().is_empty(), "{:?}", s.warnings());
     assert_eq!(s.background(), Background::Color(DVec3::splat(0.1)));
     assert_eq!((s.camera().width, s.camera().height), (1280, 760));
@@ -1356,7 +1357,7 @@ fn scene1_in_detail() {
     assert_eq!(s.lights().len(), 1);
     assert_eq!(s.objects().len(), 6);
     assert_eq!(s.textures().len(), 2);
-    let blocks: Vec<_> = s.objects().iter().map(|o| o.block().unwrap()).collect();
+    let blocks: Vec<_> = s.objects().iter().map(|o| o.block().unwrap()).collect(); // invariant: the test's own fixed input (a failure fails the test)
     assert_eq!(blocks, vec![0, 1, 2, 3, 4, 5]);
     let glass = s.material_of(&s.objects()[0]);
     assert_eq!(
@@ -1373,7 +1374,7 @@ fn scene_stacks_bezier() {
     let Some(dir) = corpus("community") else {
         return;
     };
-    let s = Scene::from_file(dir.join("scene_stacks.txt")).unwrap();
+    let s = Scene::from_file(dir.join("scene_stacks.txt")).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     assert!(matches!(s.background(), Background::Gradient { .. }));
     let Some(Shape::Bezier(b)) = s
         .objects()
@@ -1381,10 +1382,10 @@ fn scene_stacks_bezier() {
         .map(|o| &o.shape)
         .find(|s| matches!(s, Shape::Bezier(_)))
     else {
-        panic!("no bezier");
+        panic!("no bezier"); // invariant: the test's own fixed input (a failure fails the test)
     };
     assert_eq!(b.points.len(), 4);
-    let m = s.material_of(s.objects().last().unwrap());
+    let m = s.material_of(s.objects().last().unwrap()); // invariant: the test's own fixed input (a failure fails the test)
     // `refl=` appears twice; the later 0 wins.
     assert_eq!(m.refl, 0.0);
 }

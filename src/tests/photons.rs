@@ -16,7 +16,7 @@ use std::f64::consts::PI;
 /// The scene of `text` in `dialect` with its acceleration structure.
 fn prepared(text: &str, dialect: Dialect) -> (Scene, SceneAccel) {
     let mut scene = Scene::parse_as(text, ".", Some(dialect))
-        .unwrap_or_else(|e| panic!("the test scene parses:\n{e}"));
+        .unwrap_or_else(|e| panic!("the test scene parses:\n{e}")); // invariant: the test's own fixed input (a failure fails the test)
     let accel = SceneAccel::build(scene.take_objects());
     (scene, accel)
 }
@@ -408,7 +408,7 @@ fn the_grid_finds_exactly_the_photons_a_brute_force_search_finds() {
                 .filter(|p| (p.pos - x).length_squared() <= r2)
                 .map(|p| p.pos.to_array())
                 .collect();
-            let key = |a: &[f64; 3], b: &[f64; 3]| a.partial_cmp(b).unwrap();
+            let key = |a: &[f64; 3], b: &[f64; 3]| a.partial_cmp(b).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
             found.sort_by(key);
             brute.sort_by(key);
             assert_eq!(found, brute, "cell {cell}, radius {r} at {x:?}");
@@ -465,7 +465,7 @@ fn photons_are_the_same_whatever_the_threads() {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
-            .unwrap();
+            .unwrap(); // invariant: the test's own fixed input (a failure fails the test)
         pool.install(|| shoot(&scene, &accel, &model, &plan, 9, 3).photons)
     };
     let one = run(1);
