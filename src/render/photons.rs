@@ -239,12 +239,7 @@ pub(crate) fn progressive(
         }
         None => return Err(Unfinished::Cancelled),
     };
-    let direct = if plan.mode == PhotonMode::Sppm {
-        let passes = stats.iterations.max(1) as f64;
-        direct_sum.iter().map(|s| *s / passes).collect()
-    } else {
-        direct
-    };
+    let direct = direct_part(&direct, &direct_sum, stats.iterations, plan.mode);
     // The photons pass: each pixel's photon estimate alone.
     let mut term = vec![0f32; pixels * 3];
     for h in &points {
@@ -265,6 +260,22 @@ pub(crate) fn progressive(
     })
 }
 
+/// Each pixel's ray-traced part after `passes` passes: PPM's render of
+/// it, SPPM's mean of its iterations' samples.
+fn direct_part(
+    direct: &[DVec3],
+    direct_sum: &[DVec3],
+    passes: u64,
+    mode: PhotonMode,
+) -> Vec<DVec3> {
+    if mode == PhotonMode::Sppm {
+        let passes = passes.max(1) as f64;
+        direct_sum.iter().map(|s| *s / passes).collect()
+    } else {
+        direct.to_vec()
+    }
+}
+
 /// The picture after `passes` passes: clamp(direct + Σ the pixel's hit
 /// points' estimates); SPPM's direct light is the mean of its iterations'.
 fn compose(
@@ -274,11 +285,7 @@ fn compose(
     passes: u64,
     mode: PhotonMode,
 ) -> Vec<[f32; 3]> {
-    let mut sum: Vec<DVec3> = if mode == PhotonMode::Sppm {
-        direct_sum.iter().map(|s| *s / passes as f64).collect()
-    } else {
-        direct.to_vec()
-    };
+    let mut sum = direct_part(direct, direct_sum, passes, mode);
     for h in points {
         sum[h.pixel as usize] += h.radiance(passes);
     }

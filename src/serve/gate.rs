@@ -131,7 +131,9 @@ fn relay(mut client: TcpStream, inner: &Path) {
             "payload too large: the API takes no request body",
         );
     }
-    let Ok(mut server) = UnixStream::connect(inner) else {
+    let handed =
+        UnixStream::connect(inner).and_then(|mut s| s.write_all(&closing_head(&head)).map(|()| s));
+    let Ok(mut server) = handed else {
         return refuse(
             &mut client,
             "503 Service Unavailable",
@@ -139,13 +141,6 @@ fn relay(mut client: TcpStream, inner: &Path) {
         );
     };
     let _ = client.set_read_timeout(None);
-    if server.write_all(&closing_head(&head)).is_err() {
-        return refuse(
-            &mut client,
-            "503 Service Unavailable",
-            "the server is not ready",
-        );
-    }
     let _ = server.shutdown(Shutdown::Write);
     // tiny_http never says the connection ends (it drops a `Connection`
     // header given to it): the gate says so after the status line.
