@@ -184,7 +184,7 @@ pub use probe::{
 pub use render::{
     Aov, Checkpoint, Control, Explanation, Film, HitPointTerm, LIGHT_PASSES_MAX, MAX_EXPLAINED_SPP,
     MAX_THREADS, PhotonStats, Plane, ProgressiveTerm, Region, RenderError, RenderOptions,
-    RenderStats, Renderer, Sampling, Stage, WorkEstimate, memory_needed,
+    RenderStats, Renderer, Sampling, Stage, WorkEstimate,
 };
 pub use scene::{Dialect, DialectChoice, Scene, SceneError};
 

@@ -3,8 +3,7 @@
 use clap::{Args, Parser, Subcommand};
 use glint::{
     Aov, Control, Dialect, Film, Format, MAX_THREADS, PhotonFilter, PhotonMode, PhotonOptions,
-    RaysError, Region, RenderError, RenderOptions, Renderer, Scene, memory_needed, read_rays,
-    to_json, to_text,
+    RaysError, Region, RenderError, RenderOptions, Renderer, Scene, read_rays, to_json, to_text,
 };
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::{IsTerminal, Write};
@@ -645,7 +644,7 @@ fn run_render(args: RenderArgs, interrupt: &AtomicBool) -> Result<(), Failure> {
         }
     }
     let (w, h) = renderer.frame_size(&options).map_err(render_failure)?;
-    check_memory(w, h)?;
+    check_memory(&renderer, &options, args.verbose)?;
     warn_if_slow(&renderer, &options, &args.scene)?;
     check_interrupt(interrupt)?;
 
@@ -774,15 +773,33 @@ fn duration(seconds: f64) -> String {
     }
 }
 
-/// Refuses a size whose buffers would not fit in the memory available now.
-fn check_memory(w: u32, h: u32) -> Result<(), Failure> {
-    let need = memory_needed(w, h);
+/// Refuses a render whose buffers would not fit in the memory available
+/// now; with `verbose`, says the bound.
+fn check_memory(
+    renderer: &Renderer,
+    options: &RenderOptions,
+    verbose: bool,
+) -> Result<(), Failure> {
+    let need = renderer.memory_needed(options).map_err(render_failure)?;
+    let mib = |b: u64| b as f64 / (1u64 << 20) as f64;
+    if verbose && let Some(held) = memory_held() {
+        say(&format!(
+            "note: memory: at most {:.1} MiB at the peak ({:.1} MiB held now, at most {:.1} MiB more for the render)",
+            mib(held.saturating_add(need)),
+            mib(held),
+            mib(need)
+        ));
+    }
+    let gib = |b: u64| b as f64 / (1u64 << 30) as f64;
     match memory_available() {
-        Some(avail) if need > avail => Err(fail(format!(
-            "error: a {w}x{h} image needs about {:.1} GiB of memory, but only {:.1} GiB is available",
-            need as f64 / (1u64 << 30) as f64,
-            avail as f64 / (1u64 << 30) as f64
-        ))),
+        Some(avail) if need > avail => {
+            let (w, h) = renderer.frame_size(options).map_err(render_failure)?;
+            Err(fail(format!(
+                "error: a {w}x{h} render needs up to {:.1} GiB of memory, but only {:.1} GiB is available: render smaller, with fewer passes, or (photon mapping) fewer photons (`--emit`) or hit points (`max_hitpoints=`)",
+                gib(need),
+                gib(avail),
+            )))
+        }
         _ => Ok(()),
     }
 }
@@ -806,6 +823,19 @@ fn run_explain(args: ExplainArgs) -> Result<(), Failure> {
     };
     let _ = std::io::stdout().write_all(text.as_bytes());
     Ok(())
+}
+
+/// The resident memory of this process now (VmRSS), where known.
+fn memory_held() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let kib = status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmRSS:"))?
+        .split_whitespace()
+        .next()?
+        .parse::<u64>()
+        .ok()?;
+    Some(kib.saturating_mul(1024))
 }
 
 /// The memory this process may still take, where known: what the system

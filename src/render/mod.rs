@@ -8,6 +8,7 @@ mod camera;
 mod explain;
 mod film;
 mod frame;
+mod memory;
 mod passes;
 mod photons;
 mod report;
@@ -145,11 +146,9 @@ pub enum RenderError {
     Cancelled,
     /// More PPM hit points than the camera's `max_hitpoints=` allows.
     #[error(
-        "the eye pass found {found} hit points, more than `max_hitpoints= {max}`: raise it in the camera block, or render smaller"
+        "the eye pass found more than `max_hitpoints= {max}` hit points: raise it in the camera block, or render smaller"
     )]
     HitPoints {
-        /// Hit points found.
-        found: u64,
         /// The key's value.
         max: u64,
     },
@@ -159,7 +158,7 @@ impl From<photons::Unfinished> for RenderError {
     fn from(e: photons::Unfinished) -> Self {
         match e {
             photons::Unfinished::Cancelled => RenderError::Cancelled,
-            photons::Unfinished::HitPoints { found, max } => RenderError::HitPoints { found, max },
+            photons::Unfinished::HitPoints { max } => RenderError::HitPoints { max },
         }
     }
 }
@@ -719,6 +718,25 @@ impl Renderer {
         }
     }
 
+    /// An upper bound of the bytes a render of `options` takes on top of
+    /// what the process holds before it, for every output format, sampling
+    /// mode, pass and photon algorithm (photons and hit points bounded by
+    /// their keys).
+    pub fn memory_needed(&self, options: &RenderOptions) -> Result<u64, RenderError> {
+        let (w, h) = self.frame_size(options)?;
+        let pixels = match options.region {
+            Some(r) => r.area(),
+            None => u64::from(w) * u64::from(h),
+        };
+        let threads = options
+            .threads
+            .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+            .min(MAX_THREADS) as u64;
+        let channels = options.aovs.iter().map(|a| a.channels() as u64).sum();
+        let plan = Plan::of(&self.scene, &options.photons).0;
+        Ok(memory::memory_needed(pixels, threads, channels, &plan))
+    }
+
     /// The notes and warnings about photons a render of `options` makes:
     /// which algorithm runs, keys without effect, settings that switch it off.
     pub fn photon_notes(&self, options: &RenderOptions) -> Vec<String> {
@@ -767,15 +785,6 @@ pub struct WorkEstimate {
     pub rays: u64,
     /// The settings that drive the count: image size, samples, qualities.
     pub drivers: Vec<String>,
-}
-
-/// Bytes of memory a render of `width` × `height` pixels holds at its peak,
-/// an upper bound for every output format and sampling mode, for refusing
-/// absurd sizes: measured peaks at 2000×2000 were 19 B a pixel (.png), 28
-/// (.hdr), 41 (.exr with the adaptive hashes: the float copy and the
-/// encoder's buffers), so 48.
-pub fn memory_needed(width: u32, height: u32) -> u64 {
-    width as u64 * height as u64 * 48
 }
 
 #[cfg(test)]

@@ -14,6 +14,7 @@ use crate::sampling::strata;
 use crate::scene::Scene;
 use glam::DVec3;
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Why the progressive passes gave no picture.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -22,8 +23,6 @@ pub(crate) enum Unfinished {
     Cancelled,
     /// More hit points than `max_hitpoints=`.
     HitPoints {
-        /// Hit points found.
-        found: u64,
         /// The key's value.
         max: u64,
     },
@@ -134,14 +133,16 @@ pub(crate) fn progressive(
         let (seeds, r) = match spp {
             Some(n) => {
                 let strata = strata(n);
-                eye_pass(p.frame, region, n, |x, y, s| {
+                eye_pass(p.frame, region, n, plan.max_hitpoints, |x, y, s| {
                     p.frame.jittered(x, y, s, strata)
                 })
             }
-            None => eye_pass(p.frame, region, 1, |x, y, _| p.frame.centre_sample(x, y)),
-        };
+            None => eye_pass(p.frame, region, 1, plan.max_hitpoints, |x, y, _| {
+                p.frame.centre_sample(x, y)
+            }),
+        }?;
         rays.add(&r);
-        let points = hit_points(p.scene, &model, plan, seeds.hits)?;
+        let points = hit_points(p.scene, &model, plan, seeds.hits);
         let direct: Vec<DVec3> = done
             .pixels
             .iter()
@@ -184,17 +185,18 @@ pub(crate) fn progressive(
             break;
         }
         let visible = if plan.mode == PhotonMode::Sppm {
-            let (seeds, r) = eye_pass(p.frame, region, 1, |x, y, _| p.frame.fresh(x, y, i as u32));
+            let (seeds, r) = eye_pass(p.frame, region, 1, plan.max_hitpoints, |x, y, _| {
+                p.frame.fresh(x, y, i as u32)
+            })?;
             rays.add(&r);
-            let mut by_pixel: Vec<Vec<HitPoint>> = vec![Vec::new(); pixels];
-            for h in hit_points(p.scene, &model, plan, seeds.hits)? {
-                by_pixel[h.pixel as usize].push(h);
-            }
             direct_sum
                 .iter_mut()
                 .zip(&seeds.colors)
                 .for_each(|(s, c)| *s += *c);
-            Some(by_pixel)
+            Some(Visible::new(
+                hit_points(p.scene, &model, plan, seeds.hits),
+                pixels,
+            ))
         } else {
             None
         };
@@ -213,8 +215,8 @@ pub(crate) fn progressive(
                 h.gather(&grid);
                 update_hit_point(h, alpha);
             }),
-            Some(by_pixel) => points.par_iter_mut().for_each(|h| {
-                for v in &by_pixel[h.pixel as usize] {
+            Some(visible) => points.par_iter_mut().for_each(|h| {
+                for v in visible.of(h.pixel) {
                     let (m, tau) = gather(&grid, v.point, v.side, &v.brdf, h.r2);
                     h.m += m;
                     h.tau += v.weight * tau;
@@ -301,16 +303,49 @@ struct EyePass {
     colors: Vec<DVec3>,
 }
 
+/// SPPM's hit points of one iteration, grouped by pixel (one flat list:
+/// the eye pass meets the pixels in order).
+struct Visible {
+    points: Vec<HitPoint>,
+    /// Pixel p's points are `points[starts[p]..starts[p + 1]]`.
+    starts: Vec<u32>,
+}
+
+impl Visible {
+    fn new(mut points: Vec<HitPoint>, pixels: usize) -> Self {
+        // The eye pass gives them in pixel order; a stable sort otherwise.
+        if !points.is_sorted_by_key(|h| h.pixel) {
+            points.sort_by_key(|h| h.pixel);
+        }
+        let mut starts = vec![0u32; pixels + 1];
+        for h in &points {
+            starts[h.pixel as usize + 1] += 1;
+        }
+        for p in 0..pixels {
+            starts[p + 1] += starts[p];
+        }
+        Visible { points, starts }
+    }
+
+    fn of(&self, pixel: u32) -> &[HitPoint] {
+        let p = pixel as usize;
+        &self.points[self.starts[p] as usize..self.starts[p + 1] as usize]
+    }
+}
+
 /// Traces samples `sample(x, y, s)`, s < `n`, of each pixel of `region`,
-/// keeping their hits, each weighing 1/n.
+/// keeping their hits, each weighing 1/n; more than `max` hits stop it
+/// (an error naming `max_hitpoints=`), so it never holds more than `max`.
 fn eye_pass(
     frame: &Frame<'_>,
     region: Region,
     n: u32,
+    max: u64,
     sample: impl Fn(u32, u32, u32) -> (crate::geometry::Ray, crate::integrator::PathState) + Sync,
-) -> (EyePass, RayCounts) {
+) -> Result<(EyePass, RayCounts), Unfinished> {
     let share = 1.0 / f64::from(n.max(1));
-    let rows: Vec<(EyePass, RayCounts)> = (region.y..region.y + region.height)
+    let found = AtomicU64::new(0);
+    let rows: Option<Vec<(EyePass, RayCounts)>> = (region.y..region.y + region.height)
         .into_par_iter()
         .map(|y| {
             let mut hints = ShadowHints::default();
@@ -322,6 +357,7 @@ fn eye_pass(
             let fresh = HitPointObserver::default();
             for x in region.x..region.x + region.width {
                 let pixel = (y - region.y) * region.width + (x - region.x);
+                let before = row.hits.len();
                 let mut color = DVec3::ZERO;
                 for s in 0..n.max(1) {
                     frame.packet(
@@ -339,13 +375,20 @@ fn eye_pass(
                         &mut hints,
                     );
                 }
+                let new = (row.hits.len() - before) as u64;
+                if found.fetch_add(new, Ordering::Relaxed) + new > max {
+                    return None;
+                }
                 row.colors.push(color * share);
             }
-            (row, rays)
+            Some((row, rays))
         })
         .collect();
+    let Some(rows) = rows else {
+        return Err(Unfinished::HitPoints { max });
+    };
     let mut pass = EyePass {
-        hits: Vec::new(),
+        hits: Vec::with_capacity(rows.iter().map(|r| r.0.hits.len()).sum()),
         colors: Vec::with_capacity(region.area() as usize),
     };
     let mut rays = RayCounts::default();
@@ -354,24 +397,17 @@ fn eye_pass(
         pass.colors.extend(row.colors);
         rays.add(&r);
     }
-    (pass, rays)
+    Ok((pass, rays))
 }
 
-/// The hit points of the eye pass's diffuse hits; more than
-/// `max_hitpoints=` is an error naming the key.
+/// The hit points of the eye pass's diffuse hits.
 fn hit_points(
     scene: &Scene,
     model: &Model,
     plan: &Plan,
     seeds: Vec<(u32, HitPointSeed)>,
-) -> Result<Vec<HitPoint>, Unfinished> {
-    if seeds.len() as u64 > plan.max_hitpoints {
-        return Err(Unfinished::HitPoints {
-            found: seeds.len() as u64,
-            max: plan.max_hitpoints,
-        });
-    }
-    Ok(seeds
+) -> Vec<HitPoint> {
+    seeds
         .into_iter()
         .map(|(pixel, s)| HitPoint {
             pixel,
@@ -388,5 +424,5 @@ fn hit_points(
             m: 0,
             tau: DVec3::ZERO,
         })
-        .collect())
+        .collect()
 }

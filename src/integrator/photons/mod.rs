@@ -18,6 +18,5 @@ pub use plan::{PhotonFilter, PhotonMode, PhotonOptions};
 pub(crate) use plan::{Plan, Term};
 pub(crate) use points::{HitPointObserver, HitPointSeed};
 pub(crate) use progressive::{HitPoint, gather, update_hit_point};
-#[cfg(test)]
-pub(crate) use trace::Photon;
-pub(crate) use trace::shoot;
+pub(crate) use trace::{Photon, shoot};
+pub(crate) use units::MAX_PHOTON_HITS;
