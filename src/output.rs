@@ -116,11 +116,11 @@ impl Image {
 
     /// The framework's 8-bit output: floor(255 · clamp(c, 0, 1)) per channel, no gamma.
     pub fn to_rgb8(&self) -> Vec<u8> {
+        // A flat, sized iterator: one allocation, no copies as it grows.
         self.pixels
+            .as_flattened()
             .iter()
-            // The cast truncates, which is the floor on [0, 255] (and NaN
-            // gives 0 either way), without a call to `floorf`.
-            .flat_map(|p| p.map(|c| (255.0 * c.clamp(0.0, 1.0)) as u8))
+            .map(|&c| to_byte(c))
             .collect()
     }
 
@@ -152,21 +152,14 @@ impl Image {
 
     /// The encoded file contents.
     pub fn encode(&self, format: Format) -> Result<Vec<u8>, String> {
-        use ::image::{ImageFormat, Rgb32FImage, RgbImage};
+        use ::image::{ImageFormat, Rgb32FImage};
         let mut out = std::io::Cursor::new(Vec::new());
         let result = match format {
             Format::Png | Format::Bmp => {
-                let img = RgbImage::from_raw(self.width, self.height, self.to_rgb8())
-                    .ok_or("image buffer has the wrong size")?;
-                let f = if format == Format::Png {
-                    ImageFormat::Png
-                } else {
-                    ImageFormat::Bmp
-                };
-                img.write_to(&mut out, f)
+                return encode_rgb8(self.width, self.height, self.to_rgb8(), format);
             }
             Format::Exr | Format::Hdr => {
-                let raw = self.pixels.iter().flatten().copied().collect();
+                let raw = self.pixels.as_flattened().to_vec();
                 let img = Rgb32FImage::from_raw(self.width, self.height, raw)
                     .ok_or("image buffer has the wrong size")?;
                 let f = if format == Format::Exr {
@@ -180,6 +173,43 @@ impl Image {
         result.map_err(|e| e.to_string())?;
         Ok(out.into_inner())
     }
+}
+
+/// A linear value in [0, 1] as a byte: the floor of 255·v, clamped (NaN
+/// gives 0). The cast truncates, which is the floor on [0, 255], without a
+/// call to `floorf`.
+#[inline]
+pub fn to_byte(v: f32) -> u8 {
+    (255.0 * v.clamp(0.0, 1.0)) as u8
+}
+
+/// The encoded file contents of an 8-bit RGB picture, `width` × `height`,
+/// rows from the top (`.exr` and `.hdr`: each byte b as b/255).
+pub fn encode_rgb8(
+    width: u32,
+    height: u32,
+    bytes: Vec<u8>,
+    format: Format,
+) -> Result<Vec<u8>, String> {
+    use ::image::{ImageFormat, RgbImage};
+    let f = match format {
+        Format::Png => ImageFormat::Png,
+        Format::Bmp => ImageFormat::Bmp,
+        Format::Exr | Format::Hdr => {
+            let pixels = bytes
+                .chunks_exact(3)
+                .map(|c| [c[0], c[1], c[2]].map(|b| f32::from(b) / 255.0))
+                .collect::<Vec<[f32; 3]>>();
+            if pixels.len() != width as usize * height as usize {
+                return Err("image buffer has the wrong size".into());
+            }
+            return Image::from_pixels(width, height, pixels).encode(format);
+        }
+    };
+    let img = RgbImage::from_raw(width, height, bytes).ok_or("image buffer has the wrong size")?;
+    let mut out = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut out, f).map_err(|e| e.to_string())?;
+    Ok(out.into_inner())
 }
 
 /// Writes `bytes` to a hidden temporary file beside `path`, syncs it and

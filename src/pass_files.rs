@@ -4,7 +4,7 @@
 //! their range in a sidecar `OUT.PASS.json`; primitives as false colours with a
 //! legend `OUT.primitive.json`, the verdict's kinds likewise in `OUT.why.json`).
 
-use crate::output::{Format, Image, SaveError, write_atomically};
+use crate::output::{Format, SaveError, encode_rgb8, to_byte, write_atomically};
 use crate::render::{Cause, Film, Plane};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
@@ -122,15 +122,16 @@ pub fn save_pass_images(
         .map(|e| e.to_string_lossy().into_owned())
         .unwrap_or_default();
     let hit = hit_mask(film);
+    let (w, h) = (film.image().width(), film.image().height());
     // The passes are mapped, encoded and written on every core, as the
     // render's rows are (one after another, they left all cores but one idle).
     let each: Vec<Result<Vec<PathBuf>, SaveError>> = film
         .planes()
         .par_iter()
         .map(|p| {
-            let (image, sidecar) = pass_image(p, film, &hit, table, file);
+            let (rgb, sidecar) = pass_image(p, &hit, table, file);
             let path = pass_path(picture, &p.name, &ext);
-            let bytes = image.encode(format).map_err(|e| write_err(&path, e))?;
+            let bytes = encode_rgb8(w, h, rgb, format).map_err(|e| write_err(&path, e))?;
             write_atomically(&path, &bytes, cancel).map_err(|e| write_err(&path, e))?;
             let mut written = vec![path];
             if let Some(json) = sidecar {
@@ -162,104 +163,87 @@ pub(crate) fn hit_mask(film: &Film) -> Vec<bool> {
     }
 }
 
-/// Plane `p` of `film` as the 8-bit picture `save_pass_images` writes,
-/// with its sidecar or legend (`hit` from [`hit_mask`]).
+/// Plane `p` of `film` as the 8-bit RGB picture `save_pass_images` writes
+/// (the film's size, rows from the top), with its sidecar or legend (`hit`
+/// from [`hit_mask`]).
 pub(crate) fn pass_image(
     p: &Plane,
-    film: &Film,
     hit: &[bool],
     table: &PrimitiveTable,
     file: Option<&str>,
-) -> (Image, Option<serde_json::Value>) {
-    let mut sidecar = None;
-    let pixels: Vec<[f32; 3]> = match p.name.as_str() {
-        "normal" => p
-            .data
-            .chunks(3)
-            .zip(hit)
-            .map(|(n, &h)| {
-                if h {
-                    [0.5 + 0.5 * n[0], 0.5 + 0.5 * n[1], 0.5 + 0.5 * n[2]]
+) -> (Vec<u8>, Option<serde_json::Value>) {
+    let mut bytes = Vec::with_capacity(hit.len() * 3);
+    let sidecar = match p.name.as_str() {
+        "normal" => {
+            for (n, &h) in p.data.chunks_exact(3).zip(hit) {
+                let c = if h {
+                    [n[0], n[1], n[2]].map(|v| to_byte(0.5 + 0.5 * v))
                 } else {
-                    [0.0; 3]
-                }
-            })
-            .collect(),
+                    [0; 3]
+                };
+                bytes.extend(c);
+            }
+            None
+        }
         "why" => {
             let mut legend = serde_json::Map::new();
             let mut seen = Seen::default();
-            let pixels = p
-                .data
-                .iter()
-                .map(|&v| {
-                    let kind = Cause::ALL
-                        .get(v as usize)
-                        .copied()
-                        .unwrap_or(Cause::Background);
-                    let c = kind.colour();
-                    if seen.first(v) {
-                        legend.entry(colour_key(c)).or_insert_with(
-                            || serde_json::json!({"index": v as u32, "kind": kind.name()}),
-                        );
-                    }
-                    c.map(|b| b as f32 / 255.0 + 0.5 / 255.0)
-                })
-                .collect();
-            sidecar = Some(serde_json::Value::Object(legend));
-            pixels
+            for &v in &p.data {
+                let kind = Cause::ALL
+                    .get(v as usize)
+                    .copied()
+                    .unwrap_or(Cause::Background);
+                let c = kind.colour();
+                if seen.first(v) {
+                    legend.entry(colour_key(c)).or_insert_with(
+                        || serde_json::json!({"index": v as u32, "kind": kind.name()}),
+                    );
+                }
+                bytes.extend(c);
+            }
+            Some(serde_json::Value::Object(legend))
         }
         "primitive" => {
             let mut legend = serde_json::Map::new();
             let mut seen = Seen::default();
-            let pixels = p
-                .data
-                .iter()
-                .map(|&v| {
-                    let c = primitive_colour(v);
-                    if v != -1.0 && seen.first(v) {
-                        legend
-                            .entry(colour_key(c))
-                            .or_insert_with(|| legend_entry(v, table, file));
-                    }
-                    c.map(|b| b as f32 / 255.0 + 0.5 / 255.0)
-                })
-                .collect();
-            sidecar = Some(serde_json::Value::Object(legend));
-            pixels
+            for &v in &p.data {
+                let c = primitive_colour(v);
+                if v != -1.0 && seen.first(v) {
+                    legend
+                        .entry(colour_key(c))
+                        .or_insert_with(|| legend_entry(v, table, file));
+                }
+                bytes.extend(c);
+            }
+            Some(serde_json::Value::Object(legend))
         }
         _ => {
             let ranges: Vec<(f32, f32)> = (0..p.channels).map(|c| range(p, c, hit)).collect();
-            if matches!(p.name.as_str(), "depth" | "position" | "rays" | "cost") {
-                sidecar = Some(serde_json::json!({
+            let scaled = matches!(p.name.as_str(), "depth" | "position" | "rays" | "cost");
+            for (v, &h) in p.data.chunks_exact(p.channels).zip(hit) {
+                for c in 0..3 {
+                    let x = v[c.min(p.channels - 1)];
+                    bytes.push(to_byte(match (h, scaled) {
+                        (false, _) => 0.0,
+                        (true, true) => {
+                            let (lo, hi) = ranges[c.min(p.channels - 1)];
+                            if hi > lo { (x - lo) / (hi - lo) } else { 1.0 }
+                        }
+                        (true, false) if c < p.channels => x,
+                        (true, false) => 0.0,
+                    }));
+                }
+            }
+            scaled.then(|| {
+                serde_json::json!({
                     "min": ranges.iter().map(|r| r.0).collect::<Vec<_>>(),
                     "max": ranges.iter().map(|r| r.1).collect::<Vec<_>>(),
                     "mapping": "byte = floor(255 * (value - min) / (max - min)); pixels that hit nothing are black",
-                }));
-            }
-            p.data
-                .chunks(p.channels)
-                .zip(hit)
-                .map(|(v, &h)| {
-                    let mut out = [0f32; 3];
-                    for (c, o) in out.iter_mut().enumerate() {
-                        let x = v[c.min(p.channels - 1)];
-                        *o = match (h, sidecar.is_some()) {
-                            (false, _) => 0.0,
-                            (true, true) => {
-                                let (lo, hi) = ranges[c.min(p.channels - 1)];
-                                if hi > lo { (x - lo) / (hi - lo) } else { 1.0 }
-                            }
-                            (true, false) if c < p.channels => x,
-                            (true, false) => 0.0,
-                        };
-                    }
-                    out
                 })
-                .collect()
+            })
         }
     };
-    let (w, h) = (film.image().width(), film.image().height());
-    (Image::from_pixels(w, h, pixels), sidecar)
+    (bytes, sidecar)
 }
 
 /// A legend's key: the colour as `#rrggbb`.

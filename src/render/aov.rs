@@ -1,13 +1,9 @@
-//! Passes (AOVs): what the centre ray of each pixel first hits, stored as
-//! named planes of the film beside the picture. One nearest-hit query per
-//! pixel, no shading: a small cost beside the render. (The passes of the
-//! camera hit's shading, `light:N`, `shade`, `why`, `clamp`, are tallied
-//! by pass 1 itself: `shading_passes`.)
+//! Passes (AOVs): what the centre sample of each pixel meets, stored as
+//! named planes of the film beside the picture: its first hit's surface
+//! and shading, tallied by pass 1 itself (`shading_passes`), and the rays
+//! and BVH work the render counts as it traces.
 
-use super::film::Region;
-use super::frame::Frame;
-use crate::integrator::SceneAccel;
-use crate::scene::{Material, Origin, Scene};
+use crate::scene::{Material, Scene};
 use rayon::prelude::*;
 
 /// A pass a render can write beside its picture.
@@ -101,11 +97,17 @@ impl Aov {
         }
     }
 
-    /// Whether it comes from the camera hit's shading (tallied by pass 1).
+    /// Whether it comes from the camera hit, its surface or its shading
+    /// (tallied by pass 1).
     pub(crate) fn shaded(self) -> bool {
+        !self.rendered()
+    }
+
+    /// Whether it shows the camera hit's surface (normal, depth...).
+    pub(crate) fn of_surface(self) -> bool {
         matches!(
             self,
-            Aov::Light(_) | Aov::Shade | Aov::Why | Aov::Clamp | Aov::Photons
+            Aov::Normal | Aov::Depth | Aov::Position | Aov::Uv | Aov::Primitive | Aov::Albedo
         )
     }
 
@@ -147,91 +149,33 @@ impl Aov {
     }
 }
 
-/// The planes of `aovs` over `region` of `frame`: each pixel's centre ray's first hit.
-pub(crate) fn first_hit_planes(
-    frame: &Frame,
-    scene: &Scene,
-    accel: &SceneAccel,
-    region: Region,
-    aovs: &[Aov],
-) -> Vec<(Aov, Vec<f32>)> {
-    let per_pixel: usize = aovs.iter().map(|a| a.channels()).sum();
-    let rw = region.width as usize;
-    let mut all = vec![0f32; region.area() as usize * per_pixel];
-    all.par_chunks_mut(rw * per_pixel)
-        .enumerate()
-        .for_each(|(row, values)| {
-            let y = region.y + row as u32;
-            for (i, px) in values.chunks_mut(per_pixel).enumerate() {
-                let ray = frame.ray(region.x + i as u32, y, 0.5, 0.5);
-                // The surface once per pixel, for every pass.
-                let found = accel.intersect(&ray, f64::INFINITY).map(|(index, hit)| {
-                    let object = &accel.objects()[index as usize];
-                    (object, hit, object.shape().surface(&ray, &hit))
-                });
-                let mut at = 0;
-                for &aov in aovs {
-                    let out = &mut px[at..at + aov.channels()];
-                    at += aov.channels();
-                    let Some((object, hit, s)) = &found else {
-                        if aov == Aov::Primitive {
-                            out[0] = -1.0;
-                        }
-                        continue;
-                    };
-                    let front = s.normal.dot(ray.dir) < 0.0;
-                    let put = |out: &mut [f32], v: &[f64]| {
-                        out.iter_mut().zip(v).for_each(|(o, &v)| *o = v as f32);
-                    };
-                    match aov {
-                        Aov::Normal => {
-                            let n = if front { s.normal } else { -s.normal };
-                            put(out, &n.to_array());
-                        }
-                        Aov::Depth => put(out, &[hit.t]),
-                        Aov::Position => put(out, &s.point.to_array()),
-                        Aov::Uv => put(out, &s.uv.to_array()),
-                        Aov::Primitive => {
-                            out[0] = match object.origin() {
-                                Origin::Block(b) => b as f32,
-                                Origin::Light(l) => -2.0 - l as f32,
-                            }
-                        }
-                        // Counted by the render itself, or tallied by pass 1.
-                        Aov::Rays
-                        | Aov::Light(_)
-                        | Aov::Shade
-                        | Aov::Why
-                        | Aov::Clamp
-                        | Aov::Cost
-                        | Aov::Photons => {}
-                        Aov::Albedo => {
-                            let k = albedo(scene, &scene.material_of(object), s.uv);
-                            put(out, &k.to_array());
-                        }
-                    }
-                }
-            }
-        });
-    split_planes(&all, aovs)
-}
-
 /// The planes of `aovs` out of `all`, each pixel's values of every pass in turn.
 pub(crate) fn split_planes(all: &[f32], aovs: &[Aov]) -> Vec<(Aov, Vec<f32>)> {
-    let per_pixel: usize = aovs.iter().map(|a| a.channels()).sum();
-    let pixels = all.len() / per_pixel.max(1);
-    let mut planes: Vec<(Aov, Vec<f32>)> = aovs
+    let per_pixel: usize = aovs.iter().map(|a| a.channels()).sum::<usize>().max(1);
+    let pixels = all.len() / per_pixel;
+    // Each pass's first value in a pixel's run.
+    let starts: Vec<usize> = aovs
         .iter()
-        .map(|&a| (a, Vec::with_capacity(pixels * a.channels())))
+        .scan(0, |at, a| {
+            let start = *at;
+            *at += a.channels();
+            Some(start)
+        })
         .collect();
-    for px in all.chunks(per_pixel.max(1)) {
-        let mut at = 0;
-        for (aov, data) in &mut planes {
-            data.extend_from_slice(&px[at..at + aov.channels()]);
-            at += aov.channels();
-        }
-    }
-    planes
+    aovs.par_iter()
+        .zip(starts)
+        .map(|(&aov, at)| {
+            let c = aov.channels();
+            let mut data = Vec::with_capacity(pixels * c);
+            // Value by value (a pass has 1 to 3 a pixel): no call a pixel.
+            for px in all.chunks_exact(per_pixel) {
+                for &v in &px[at..at + c] {
+                    data.push(v);
+                }
+            }
+            (aov, data)
+        })
+        .collect()
 }
 
 /// The material's colour × its texture at `uv` (what diffuse and specular scale).

@@ -498,19 +498,7 @@ impl Renderer {
         let (rays, refined) = (done.rays, done.refined);
         let image = Image::from_pixels(region.width, region.height, done.pixels);
         let mut film = Film::new((w, h), region, image);
-        let first_hit: Vec<Aov> = options
-            .aovs
-            .iter()
-            .copied()
-            .filter(|&a| !a.rendered() && !a.shaded())
-            .collect();
-        let mut planes = if first_hit.is_empty() {
-            Vec::new()
-        } else {
-            schedule::with_threads(options.threads, || {
-                aov::first_hit_planes(&frame, &self.scene, &self.accel, region, &first_hit)
-            })
-        };
+        let mut planes = Vec::new();
         if let (Some(s), Some(values)) = (&shading, &done.shading) {
             planes.extend(aov::split_planes(values, s.aovs()));
         }

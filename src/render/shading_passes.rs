@@ -1,7 +1,9 @@
-//! The passes of the camera hit's shading: `light:N`, `shade`, `why` and
-//! `clamp`, tallied by a small observer ([`LightTally`], no allocation) as
-//! pass 1 traces each pixel's centre sample, so every value is the one the
-//! render computed at that hit; refined pixels are described by their
+//! The passes of the camera hit: its surface (`normal`, `depth`,
+//! `position`, `uv`, `primitive`, `albedo`) and its shading (`light:N`,
+//! `shade`, `why`, `clamp`, `photons`), tallied by a small observer
+//! ([`LightTally`], no allocation) as pass 1 traces each pixel's centre
+//! sample, so every value is the one the render computed at that hit (and
+//! no ray is traced again for them); refined pixels are described by their
 //! centre sample too. With `--spp` above 1 pass 1 traces no centre sample,
 //! and the tally traces it apart (one more ray per pixel and its shadow rays).
 
@@ -45,18 +47,54 @@ pub(crate) struct LightTally {
     unclamped: Option<DVec3>,
     /// The photon term at the camera ray's hit (PM).
     photons: DVec3,
+    /// Whether a pass of the hit's surface is wanted (normal, depth...).
+    geometry: bool,
+    /// The block or light the camera ray hit.
+    origin: Option<Origin>,
+    /// The camera ray's hit, where a pass of its surface is wanted.
+    surface: Option<FirstSurface>,
+}
+
+/// The camera ray's hit, as the passes of its surface show it.
+#[derive(Clone, Copy, Debug)]
+struct FirstSurface {
+    /// The distance along the ray.
+    t: f64,
+    /// The point.
+    point: DVec3,
+    /// The unit geometric normal, turned against the ray.
+    normal: DVec3,
+    /// Texture coordinates.
+    uv: DVec2,
+}
+
+impl FirstSurface {
+    fn of(shape: &Shape, ray: &Ray, hit: &Hit) -> Self {
+        let s = shape.surface(ray, hit);
+        FirstSurface {
+            t: hit.t,
+            point: s.point,
+            normal: if s.normal.dot(ray.dir) < 0.0 {
+                s.normal
+            } else {
+                -s.normal
+            },
+            uv: s.uv,
+        }
+    }
 }
 
 impl LightTally {
-    /// A tally keeping the terms of `lights`; `Err(their number)` past
-    /// [`LIGHT_PASSES_MAX`].
-    fn new(lights: &[u32]) -> Result<Self, usize> {
+    /// A tally keeping the terms of `lights` (and the hit's surface when
+    /// `geometry`); `Err(their number)` past [`LIGHT_PASSES_MAX`].
+    fn new(lights: &[u32], geometry: bool) -> Result<Self, usize> {
         if lights.len() > LIGHT_PASSES_MAX {
             return Err(lights.len());
         }
         let mut tally = LightTally {
             wanted_len: lights.len(),
             shade_min: f64::INFINITY,
+            geometry,
             ..LightTally::default()
         };
         tally.wanted[..lights.len()].copy_from_slice(lights);
@@ -93,7 +131,11 @@ impl PathObserver for LightTally {
     fn queries(&mut self) {}
 
     #[inline(always)]
-    fn hit(&mut self, _: Origin) {}
+    fn hit(&mut self, origin: Origin) {
+        if self.at_camera() {
+            self.origin = Some(origin);
+        }
+    }
 
     #[inline(always)]
     fn point_light(&mut self, _: u32) {}
@@ -107,15 +149,24 @@ impl PathObserver for LightTally {
     fn surface(&mut self, seen: &SurfaceSeen<'_>) {
         if self.at_camera() {
             self.material = Some(*seen.material);
-            if self.wanted_len > 0 && seen.material.texture.is_some() {
+            if self.geometry {
+                let first = FirstSurface::of(seen.shape, seen.ray, seen.hit);
+                self.uv = first.uv;
+                self.surface = Some(first);
+            } else if self.wanted_len > 0 && seen.material.texture.is_some() {
                 self.uv = seen.shape.surface(seen.ray, seen.hit).uv;
             }
         }
     }
 
     #[inline(always)]
-    fn emitter(&mut self, _: u32, _: &Shape, _: &Ray, _: &Hit) {
-        self.emitter |= self.at_camera();
+    fn emitter(&mut self, _: u32, shape: &Shape, ray: &Ray, hit: &Hit) {
+        if self.at_camera() {
+            self.emitter = true;
+            if self.geometry {
+                self.surface = Some(FirstSurface::of(shape, ray, hit));
+            }
+        }
     }
 
     #[inline(always)]
@@ -176,7 +227,8 @@ impl<'a> ShadingPasses<'a> {
                 _ => None,
             })
             .collect();
-        let fresh = LightTally::new(&lights)?;
+        let geometry = aovs.iter().any(|a| a.of_surface());
+        let fresh = LightTally::new(&lights, geometry)?;
         Ok(Some(ShadingPasses { aovs, scene, fresh }))
     }
 
@@ -222,7 +274,30 @@ impl<'a> ShadingPasses<'a> {
                     put(out, over);
                 }
                 Aov::Photons => put(out, t.photons),
-                _ => {}
+                Aov::Primitive => {
+                    out[0] = match t.origin {
+                        Some(Origin::Block(b)) => b as f32,
+                        Some(Origin::Light(l)) => -2.0 - l as f32,
+                        None => -1.0,
+                    }
+                }
+                Aov::Albedo => {
+                    if let (Some(m), false) = (&t.material, t.emitter) {
+                        put(out, albedo(self.scene, m, t.uv));
+                    }
+                }
+                Aov::Normal | Aov::Depth | Aov::Position | Aov::Uv => {
+                    if let Some(f) = &t.surface {
+                        let v = match aov {
+                            Aov::Normal => f.normal.to_array(),
+                            Aov::Position => f.point.to_array(),
+                            Aov::Uv => [f.uv.x, f.uv.y, 0.0],
+                            _ => [f.t, 0.0, 0.0],
+                        };
+                        out.iter_mut().zip(v).for_each(|(o, v)| *o = v as f32);
+                    }
+                }
+                Aov::Shade | Aov::Rays | Aov::Cost => {}
             }
         }
     }

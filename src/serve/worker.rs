@@ -326,8 +326,10 @@ fn render_version(
         .planes()
         .iter()
         .filter_map(|p| {
-            let (image, _) = crate::pass_files::pass_image(p, &film, &hit, &table, file.as_deref());
-            Some((p.name.clone(), Arc::new(image.encode(Format::Png).ok()?)))
+            let (rgb, _) = crate::pass_files::pass_image(p, &hit, &table, file.as_deref());
+            let (w, h) = (film.image().width(), film.image().height());
+            let png = crate::output::encode_rgb8(w, h, rgb, Format::Png).ok()?;
+            Some((p.name.clone(), Arc::new(png)))
         })
         .collect();
     if cancel.load(Ordering::Relaxed) {
