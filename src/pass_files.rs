@@ -218,21 +218,29 @@ pub(crate) fn pass_image(
             Some(serde_json::Value::Object(legend))
         }
         _ => {
-            let ranges: Vec<(f32, f32)> = (0..p.channels).map(|c| range(p, c, hit)).collect();
             let scaled = matches!(p.name.as_str(), "depth" | "position" | "rays" | "cost");
+            let ranges: Vec<(f32, f32)> = if scaled {
+                (0..p.channels).map(|c| range(p, c, hit)).collect()
+            } else {
+                Vec::new()
+            };
             for (v, &h) in p.data.chunks_exact(p.channels).zip(hit) {
-                for c in 0..3 {
-                    let x = v[c.min(p.channels - 1)];
-                    bytes.push(to_byte(match (h, scaled) {
-                        (false, _) => 0.0,
-                        (true, true) => {
-                            let (lo, hi) = ranges[c.min(p.channels - 1)];
+                let mut px = [0u8; 3];
+                if h {
+                    for (c, o) in px.iter_mut().enumerate() {
+                        let ch = c.min(p.channels - 1);
+                        let x = v[ch];
+                        *o = to_byte(if scaled {
+                            let (lo, hi) = ranges[ch];
                             if hi > lo { (x - lo) / (hi - lo) } else { 1.0 }
-                        }
-                        (true, false) if c < p.channels => x,
-                        (true, false) => 0.0,
-                    }));
+                        } else if c < p.channels {
+                            x
+                        } else {
+                            0.0
+                        });
+                    }
                 }
+                bytes.extend(px);
             }
             scaled.then(|| {
                 serde_json::json!({

@@ -4,7 +4,6 @@
 //! and BVH work the render counts as it traces.
 
 use crate::scene::{Material, Scene};
-use rayon::prelude::*;
 
 /// A pass a render can write beside its picture.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -153,29 +152,21 @@ impl Aov {
 pub(crate) fn split_planes(all: &[f32], aovs: &[Aov]) -> Vec<(Aov, Vec<f32>)> {
     let per_pixel: usize = aovs.iter().map(|a| a.channels()).sum::<usize>().max(1);
     let pixels = all.len() / per_pixel;
-    // Each pass's first value in a pixel's run.
-    let starts: Vec<usize> = aovs
+    let mut planes: Vec<Vec<f32>> = aovs
         .iter()
-        .scan(0, |at, a| {
-            let start = *at;
-            *at += a.channels();
-            Some(start)
-        })
+        .map(|a| Vec::with_capacity(pixels * a.channels()))
         .collect();
-    aovs.par_iter()
-        .zip(starts)
-        .map(|(&aov, at)| {
-            let c = aov.channels();
-            let mut data = Vec::with_capacity(pixels * c);
-            // Value by value (a pass has 1 to 3 a pixel): no call a pixel.
-            for px in all.chunks_exact(per_pixel) {
-                for &v in &px[at..at + c] {
-                    data.push(v);
-                }
+    // One pass over the pixels (the interleaved values are read once),
+    // value by value (a pass has 1 to 3 a pixel): no call a pixel.
+    for px in all.chunks_exact(per_pixel) {
+        let mut values = px.iter();
+        for (plane, aov) in planes.iter_mut().zip(aovs) {
+            for _ in 0..aov.channels() {
+                plane.extend(values.next());
             }
-            (aov, data)
-        })
-        .collect()
+        }
+    }
+    aovs.iter().copied().zip(planes).collect()
 }
 
 /// The material's colour × its texture at `uv` (what diffuse and specular scale).
