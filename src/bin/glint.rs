@@ -828,14 +828,16 @@ fn run_explain(args: ExplainArgs) -> Result<(), Failure> {
 /// The resident memory of this process now (VmRSS), where known.
 fn memory_held() -> Option<u64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let kib = status
-        .lines()
-        .find_map(|l| l.strip_prefix("VmRSS:"))?
-        .split_whitespace()
-        .next()?
-        .parse::<u64>()
-        .ok()?;
-    Some(kib.saturating_mul(1024))
+    proc_field(&status, "VmRSS:", 1024)
+}
+
+/// The number after `key` on its line of `text` (a /proc file), times `unit`.
+fn proc_field(text: &str, key: &str, unit: u64) -> Option<u64> {
+    text.lines()
+        .find_map(|l| l.strip_prefix(key))
+        .and_then(|rest| rest.split_whitespace().next())
+        .and_then(|n| n.parse::<u64>().ok())
+        .map(|n| n.saturating_mul(unit))
 }
 
 /// The memory this process may still take, where known: what the system
@@ -843,18 +845,10 @@ fn memory_held() -> Option<u64> {
 /// mapped now) and the cgroup's `memory.max` (less its `memory.current`).
 fn memory_available() -> Option<u64> {
     let read = |p: &str| std::fs::read_to_string(p).ok();
-    // The number after `key` on its line of `text`, times `unit`.
-    let field = |text: &str, key: &str, unit: u64| {
-        text.lines()
-            .find_map(|l| l.strip_prefix(key))
-            .and_then(|rest| rest.split_whitespace().next())
-            .and_then(|n| n.parse::<u64>().ok())
-            .map(|n| n.saturating_mul(unit))
-    };
-    let system = read("/proc/meminfo").and_then(|m| field(&m, "MemAvailable:", 1024));
-    let mapped = read("/proc/self/status").and_then(|s| field(&s, "VmSize:", 1024));
+    let system = read("/proc/meminfo").and_then(|m| proc_field(&m, "MemAvailable:", 1024));
+    let mapped = read("/proc/self/status").and_then(|s| proc_field(&s, "VmSize:", 1024));
     let address_space = read("/proc/self/limits")
-        .and_then(|l| field(&l, "Max address space", 1))
+        .and_then(|l| proc_field(&l, "Max address space", 1))
         .map(|limit| limit.saturating_sub(mapped.unwrap_or(0)));
     let group = read("/proc/self/cgroup")
         .and_then(|c| {

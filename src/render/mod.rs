@@ -264,10 +264,7 @@ impl Renderer {
     pub fn estimate(&self, options: &RenderOptions) -> Result<WorkEstimate, RenderError> {
         let (w, h) = self.frame_size(options)?;
         let cam = self.scene.camera();
-        let pixels = match options.region {
-            Some(r) => r.area(),
-            None => u64::from(w) * u64::from(h),
-        };
+        let pixels = self.pixels(options)?;
         // Each driving key with its place, `scene.txt:12 `shade_quality=64``,
         // when the scene was read from text.
         let file = self.scene.path().map_or_else(
@@ -711,18 +708,20 @@ impl Renderer {
     /// mode, pass and photon algorithm (photons and hit points bounded by
     /// their keys).
     pub fn memory_needed(&self, options: &RenderOptions) -> Result<u64, RenderError> {
-        let (w, h) = self.frame_size(options)?;
-        let pixels = match options.region {
-            Some(r) => r.area(),
-            None => u64::from(w) * u64::from(h),
-        };
-        let threads = options
-            .threads
-            .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
-            .min(MAX_THREADS) as u64;
+        let pixels = self.pixels(options)?;
+        let threads = schedule::workers(options.threads) as u64;
         let channels = options.aovs.iter().map(|a| a.channels() as u64).sum();
         let plan = Plan::of(&self.scene, &options.photons).0;
         Ok(memory::memory_needed(pixels, threads, channels, &plan))
+    }
+
+    /// The pixels a render of `options` fills: its region's, or the frame's.
+    fn pixels(&self, options: &RenderOptions) -> Result<u64, RenderError> {
+        let (w, h) = self.frame_size(options)?;
+        Ok(match options.region {
+            Some(r) => r.area(),
+            None => u64::from(w) * u64::from(h),
+        })
     }
 
     /// The notes and warnings about photons a render of `options` makes:

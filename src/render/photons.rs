@@ -312,11 +312,9 @@ struct Visible {
 }
 
 impl Visible {
-    fn new(mut points: Vec<HitPoint>, pixels: usize) -> Self {
-        // The eye pass gives them in pixel order; a stable sort otherwise.
-        if !points.is_sorted_by_key(|h| h.pixel) {
-            points.sort_by_key(|h| h.pixel);
-        }
+    /// `points` in pixel order, as the eye pass gives them.
+    fn new(points: Vec<HitPoint>, pixels: usize) -> Self {
+        debug_assert!(points.is_sorted_by_key(|h| h.pixel));
         let mut starts = vec![0u32; pixels + 1];
         for h in &points {
             starts[h.pixel as usize + 1] += 1;

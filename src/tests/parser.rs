@@ -26,11 +26,10 @@ fn ok(text: &str) -> Scene {
 
 fn diagnostics(text: &str) -> Vec<Diagnostic> {
     match parse(text) {
-        // invariant: the test's own fixed input (a failure fails the test)
-        Ok(s) => panic!(
-            "expected errors, got a scene with warnings {:?}",
-            s.warnings()
-        ),
+        Ok(s) => {
+            let warnings = s.warnings();
+            panic!("expected errors, got a scene with warnings {warnings:?}") // invariant: the test's own fixed input (a failure fails the test)
+        }
         Err(e) => e.diagnostics,
     }
 }
