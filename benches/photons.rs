@@ -1,5 +1,5 @@
-//! Photon mapping's costs: photon rays traced per second, one K = 100 estimate
-//! on one core, and a PPM iteration of 100 000 photons over a 1280×760
+//! Photon mapping's costs: photon rays traced per second, one K = 100 (and
+//! K = 10) estimate on one core, and a PPM iteration of 100 000 photons over a 1280×760
 //! frame's worth of hit points on the machine's cores.
 //!
 //! `cargo bench --features bench --bench photons`.
@@ -51,6 +51,23 @@ fn photons(c: &mut Criterion) {
             BatchSize::SmallInput,
         )
     });
+    // The same with K = 10, the other lineages' default: a leaf is
+    // scanned whole, so that small K pays for large leaves.
+    let map10 = prepared(1_000_000, 10).map();
+    g.bench_function("estimate K=10 of 1M", |b| {
+        b.iter_batched(
+            || {
+                DVec3::new(
+                    rng.random_range(-2.0..2.0),
+                    rng.random_range(-1.0..2.5),
+                    0.0,
+                )
+            },
+            |x| black_box(map10.estimate(x, DVec3::Z)),
+            BatchSize::SmallInput,
+        )
+    });
+    drop(map10);
     // The same, at floor points in a render's order: a 1280×760 raster's
     // rows one after another, so that neighbouring queries share the map's
     // cache lines as a render's do (the random points above miss them).

@@ -56,16 +56,14 @@ pub(crate) struct PhotonMap {
 }
 
 thread_local! {
-    /// Each thread's search heap, reused by every estimate on that thread.
+    /// Each thread's search buffer, reused by every estimate on that thread.
     static SCRATCH: RefCell<Nearest> = RefCell::new(Nearest::default());
 }
 
 impl PhotonMap {
     /// The map of `photons`, gathering `k` within radius `radius`.
     pub fn new(photons: Vec<Photon>, k: usize, radius: f64, filter: PhotonFilter) -> Self {
-        let positions: Vec<DVec3> = photons.iter().map(|p| p.pos).collect();
-        let dirs: Vec<DVec3> = photons.iter().map(|p| p.dir).collect();
-        let tree = KdTree::new(&positions, &dirs);
+        let tree = KdTree::new(&photons);
         let photons = (0..photons.len() as u32)
             .map(|s| photons[tree.index(s) as usize])
             .collect();
@@ -79,7 +77,7 @@ impl PhotonMap {
     }
 
     /// Runs `f` on the search of `x`, `side` and its r², with this
-    /// thread's scratch heap (a fresh one if that is in use).
+    /// thread's scratch buffer (a fresh one if that is in use).
     fn search<R>(&self, x: DVec3, side: DVec3, f: impl FnOnce(&Nearest, f64) -> R) -> R {
         let run = |near: &mut Nearest| {
             self.tree.nearest(x, side, self.k, self.r2, near);
@@ -102,9 +100,13 @@ impl PhotonMap {
     #[cfg(test)]
     pub fn nearest(&self, x: DVec3, side: DVec3) -> (Vec<(f64, u32)>, f64) {
         self.search(x, side, |near, r2| {
-            let mut found = near.found().to_vec();
-            found.sort_unstable_by_key(|f| f.key());
-            (found.iter().map(|f| (f.d2, f.index)).collect(), r2)
+            let mut found: Vec<(f64, u32)> = near
+                .found()
+                .iter()
+                .map(|f| (f.d2, self.tree.index(f.slot)))
+                .collect();
+            found.sort_unstable_by_key(|&(d2, index)| (d2.to_bits(), index));
+            (found, r2)
         })
     }
 
@@ -129,7 +131,7 @@ impl PhotonMap {
             if self.filter == PhotonFilter::Cone {
                 norm = 1.0 - 2.0 / (3.0 * 1.1);
             }
-            // In heap order: fixed by the map and the query, not the threads.
+            // In the buffer's order: fixed by the map and the query, not the threads.
             for f in found {
                 let p = &self.photons[f.slot as usize];
                 let w = match self.filter {
