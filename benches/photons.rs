@@ -34,39 +34,31 @@ fn photons(c: &mut Criterion) {
     let (_, rays) = p.shoot(1);
     g.throughput(Throughput::Elements(rays));
     g.bench_function("trace 100k photons", |b| b.iter(|| black_box(p.shoot(1))));
-    // One estimate on one core, at random floor points (1M photons, K = 100).
+    // One estimate on one core, at random floor points (1M photons, K = 100);
+    // the same with K = 10, the other lineages' default (a leaf is scanned
+    // whole, so that small K pays for large leaves).
     let map = prepared(1_000_000, 100).map();
+    let map10 = prepared(1_000_000, 10).map();
     let mut rng = rand_pcg::Pcg32::seed_from_u64(3);
     g.throughput(Throughput::Elements(1));
-    g.bench_function("estimate K=100 of 1M", |b| {
-        b.iter_batched(
-            || {
-                DVec3::new(
-                    rng.random_range(-2.0..2.0),
-                    rng.random_range(-1.0..2.5),
-                    0.0,
-                )
-            },
-            |x| black_box(map.estimate(x, DVec3::Z)),
-            BatchSize::SmallInput,
-        )
-    });
-    // The same with K = 10, the other lineages' default: a leaf is
-    // scanned whole, so that small K pays for large leaves.
-    let map10 = prepared(1_000_000, 10).map();
-    g.bench_function("estimate K=10 of 1M", |b| {
-        b.iter_batched(
-            || {
-                DVec3::new(
-                    rng.random_range(-2.0..2.0),
-                    rng.random_range(-1.0..2.5),
-                    0.0,
-                )
-            },
-            |x| black_box(map10.estimate(x, DVec3::Z)),
-            BatchSize::SmallInput,
-        )
-    });
+    for (name, m) in [
+        ("estimate K=100 of 1M", &map),
+        ("estimate K=10 of 1M", &map10),
+    ] {
+        g.bench_function(name, |b| {
+            b.iter_batched(
+                || {
+                    DVec3::new(
+                        rng.random_range(-2.0..2.0),
+                        rng.random_range(-1.0..2.5),
+                        0.0,
+                    )
+                },
+                |x| black_box(m.estimate(x, DVec3::Z)),
+                BatchSize::SmallInput,
+            )
+        });
+    }
     drop(map10);
     // The same, at floor points in a render's order: a 1280×760 raster's
     // rows one after another, so that neighbouring queries share the map's
