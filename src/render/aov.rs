@@ -148,27 +148,6 @@ impl Aov {
     }
 }
 
-/// The planes of `aovs` out of `all`, each pixel's values of every pass in turn.
-pub(crate) fn split_planes(all: &[f32], aovs: &[Aov]) -> Vec<(Aov, Vec<f32>)> {
-    let per_pixel: usize = aovs.iter().map(|a| a.channels()).sum::<usize>().max(1);
-    let pixels = all.len() / per_pixel;
-    let mut planes: Vec<Vec<f32>> = aovs
-        .iter()
-        .map(|a| Vec::with_capacity(pixels * a.channels()))
-        .collect();
-    // One pass over the pixels (the interleaved values are read once),
-    // value by value (a pass has 1 to 3 a pixel): no call a pixel.
-    for px in all.chunks_exact(per_pixel) {
-        let mut values = px.iter();
-        for (plane, aov) in planes.iter_mut().zip(aovs) {
-            for _ in 0..aov.channels() {
-                plane.extend(values.next());
-            }
-        }
-    }
-    aovs.iter().copied().zip(planes).collect()
-}
-
 /// The material's colour × its texture at `uv` (what diffuse and specular scale).
 pub(crate) fn albedo(scene: &Scene, m: &Material, uv: glam::DVec2) -> glam::DVec3 {
     match m.texture.and_then(|t| scene.textures().get(t as usize)) {

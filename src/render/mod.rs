@@ -496,8 +496,8 @@ impl Renderer {
         let image = Image::from_pixels(region.width, region.height, done.pixels);
         let mut film = Film::new((w, h), region, image);
         let mut planes = Vec::new();
-        if let (Some(s), Some(values)) = (&shading, &done.shading) {
-            planes.extend(aov::split_planes(values, s.aovs()));
+        if let Some(shaded) = done.shading {
+            planes.extend(shaded);
         }
         if let Some(term) = photon_term {
             // PPM's and SPPM's estimate, not the ray tracer's (zero) term.

@@ -5,6 +5,7 @@
 //! Pass 1 covers a one-pixel halo around the region, so a region's pixels
 //! see the neighbours they see in a full render: the same bytes.
 
+use super::aov::Aov;
 use super::film::Region;
 use super::frame::{BAND, Frame, Tile};
 use super::shading_passes::{LightTally, ShadingPasses};
@@ -39,8 +40,8 @@ pub(crate) struct Rendered {
     pub refined: u64,
     /// Rays traced for each of the region's pixels, when asked for.
     pub rays_per_pixel: Option<Vec<f32>>,
-    /// The shading passes' values, each pixel's in turn, when asked for.
-    pub shading: Option<Vec<f32>>,
+    /// The shading passes' planes, in the order asked for, when asked for.
+    pub shading: Option<Vec<(Aov, Vec<f32>)>>,
     /// The `cost` pass (nodes, tests per pixel), when asked for.
     pub costs: Option<Vec<f32>>,
 }
@@ -181,13 +182,19 @@ pub(crate) fn render_region(
     let mut pixels = vec![[0f32; 3]; aw * area.height as usize];
     let mut hashes = vec![0u32; if adaptive { pixels.len() } else { 0 }];
     let mut counts = vec![0u32; if count { pixels.len() } else { 0 }];
-    let per_shaded = shading.map_or(0, ShadingPasses::channels);
-    let mut shaded = vec![0f32; pixels.len() * per_shaded];
+    // The shading passes' planes, written straight by each band.
+    let mut planes: Vec<(Aov, Vec<f32>)> = shading.map_or_else(Vec::new, |s| {
+        let n = pixels.len();
+        s.aovs()
+            .iter()
+            .map(|&a| (a, vec![0f32; n * a.channels()]))
+            .collect()
+    });
     let mut costs = vec![QueryCost::default(); if cost { pixels.len() } else { 0 }];
     let band_rays = |band: usize,
                      band_pixels: &mut [[f32; 3]],
                      (band_hashes, band_counts): (&mut [u32], &mut [u32]),
-                     band_shaded: &mut [f32],
+                     mut band_planes: Vec<&mut [f32]>,
                      band_costs: &mut [QueryCost]| {
         let mut rays = RayCounts::default();
         if watch.cancelled() {
@@ -212,7 +219,7 @@ pub(crate) fn render_region(
             };
             let mut fill = |i: usize, t: &LightTally| {
                 if let Some(s) = shading {
-                    s.fill(&mut band_shaded[i * per_shaded..][..per_shaded], t);
+                    s.fill(&mut band_planes, i, t);
                 }
             };
             match spp {
@@ -272,14 +279,21 @@ pub(crate) fn render_region(
         report(band_pixels.len() as u64 * per_pixel);
         rays
     };
-    // Each band's slice of the hashes, counts and shading values (empty when not kept).
+    // Each band's slice of the hashes, counts, costs and of every shading
+    // plane (empty when not kept).
     let bands = pixels.len().div_ceil(aw * BAND);
-    let (hash_bands, count_bands, shaded_bands, cost_bands) = (
+    let (hash_bands, count_bands, cost_bands) = (
         band_slices(&mut hashes, aw * BAND, bands),
         band_slices(&mut counts, aw * BAND, bands),
-        band_slices(&mut shaded, aw * BAND * per_shaded, bands),
         band_slices(&mut costs, aw * BAND, bands),
     );
+    let mut shaded_bands: Vec<Vec<&mut [f32]>> = (0..bands).map(|_| Vec::new()).collect();
+    for (aov, plane) in &mut planes {
+        let len = aw * BAND * aov.channels();
+        for (band, slice) in shaded_bands.iter_mut().zip(plane.chunks_mut(len)) {
+            band.push(slice);
+        }
+    }
     let band_rays: Vec<RayCounts> = pixels
         .par_chunks_mut(aw * BAND)
         .zip(hash_bands.into_par_iter().zip(count_bands))
@@ -350,7 +364,10 @@ pub(crate) fn render_region(
         let all: Vec<f32> = counts.iter().map(|&n| n as f32).collect();
         crop(all, 1, area, region)
     });
-    let shading = shading.map(|_| crop(shaded, per_shaded, area, region));
+    let shading = shading.map(|_| {
+        let cropped = |(a, p): (Aov, Vec<f32>)| (a, crop(p, a.channels(), area, region));
+        planes.into_iter().map(cropped).collect()
+    });
     let costs = cost.then(|| {
         let all = costs
             .iter()

@@ -237,23 +237,17 @@ impl<'a> ShadingPasses<'a> {
         &self.aovs
     }
 
-    /// Values per pixel, all passes together.
-    pub fn channels(&self) -> usize {
-        self.aovs.iter().map(|a| a.channels()).sum()
-    }
-
     /// A fresh tally, for a camera sample.
     pub fn tally(&self) -> &LightTally {
         &self.fresh
     }
 
-    /// One pixel's values of the passes (`channels()` of them), from its
-    /// centre sample's tally `t`.
-    pub fn fill(&self, px: &mut [f32], t: &LightTally) {
-        let mut at = 0;
-        for &aov in &self.aovs {
-            let out = &mut px[at..at + aov.channels()];
-            at += aov.channels();
+    /// Pixel `i`'s values of the passes, from its centre sample's tally
+    /// `t`, into `planes` (one a pass, in the order of [`Self::aovs`]).
+    pub fn fill(&self, planes: &mut [&mut [f32]], i: usize, t: &LightTally) {
+        for (plane, &aov) in planes.iter_mut().zip(&self.aovs) {
+            let c = aov.channels();
+            let out = &mut plane[i * c..][..c];
             let put = |out: &mut [f32], v: DVec3| {
                 out.copy_from_slice(&v.as_vec3().to_array()[..out.len()]);
             };
