@@ -172,23 +172,26 @@ pub(crate) fn pass_image(
     table: &PrimitiveTable,
     file: Option<&str>,
 ) -> (Vec<u8>, Option<serde_json::Value>) {
-    let mut bytes = Vec::with_capacity(hit.len() * 3);
+    // Each pixel's three bytes, written in place (black where nothing was hit).
+    let mut bytes = vec![0u8; hit.len() * 3];
+    let pixels = bytes.chunks_exact_mut(3);
     let sidecar = match p.name.as_str() {
         "normal" => {
-            for (n, &h) in p.data.chunks_exact(3).zip(hit) {
-                let c = if h {
-                    [n[0], n[1], n[2]].map(|v| to_byte(0.5 + 0.5 * v))
-                } else {
-                    [0; 3]
-                };
-                bytes.extend(c);
+            for ((o, n), _) in pixels
+                .zip(p.data.chunks_exact(3))
+                .zip(hit)
+                .filter(|(_, h)| **h)
+            {
+                for (b, x) in o.iter_mut().zip(n) {
+                    *b = to_byte(0.5 + 0.5 * x);
+                }
             }
             None
         }
         "why" => {
             let mut legend = serde_json::Map::new();
             let mut seen = Seen::default();
-            for &v in &p.data {
+            for (o, &v) in pixels.zip(&p.data) {
                 let kind = Cause::ALL
                     .get(v as usize)
                     .copied()
@@ -199,56 +202,57 @@ pub(crate) fn pass_image(
                         || serde_json::json!({"index": v as u32, "kind": kind.name()}),
                     );
                 }
-                bytes.extend(c);
+                o.copy_from_slice(&c);
             }
             Some(serde_json::Value::Object(legend))
         }
         "primitive" => {
             let mut legend = serde_json::Map::new();
             let mut seen = Seen::default();
-            for &v in &p.data {
+            for (o, &v) in pixels.zip(&p.data) {
                 let c = primitive_colour(v);
                 if v != -1.0 && seen.first(v) {
                     legend
                         .entry(colour_key(c))
                         .or_insert_with(|| legend_entry(v, table, file));
                 }
-                bytes.extend(c);
+                o.copy_from_slice(&c);
             }
             Some(serde_json::Value::Object(legend))
         }
         _ => {
             let scaled = matches!(p.name.as_str(), "depth" | "position" | "rays" | "cost");
-            let ranges: Vec<(f32, f32)> = if scaled {
-                (0..p.channels).map(|c| range(p, c, hit)).collect()
-            } else {
-                Vec::new()
-            };
-            for (v, &h) in p.data.chunks_exact(p.channels).zip(hit) {
-                let mut px = [0u8; 3];
-                if h {
-                    for (c, o) in px.iter_mut().enumerate() {
-                        let ch = c.min(p.channels - 1);
-                        let x = v[ch];
-                        *o = to_byte(if scaled {
-                            let (lo, hi) = ranges[ch];
-                            if hi > lo { (x - lo) / (hi - lo) } else { 1.0 }
-                        } else if c < p.channels {
-                            x
+            let last = p.channels - 1;
+            let hits = pixels
+                .zip(p.data.chunks_exact(p.channels))
+                .zip(hit)
+                .filter(|(_, h)| **h);
+            if scaled {
+                let ranges: Vec<(f32, f32)> = (0..p.channels).map(|c| range(p, c, hit)).collect();
+                for ((o, v), _) in hits {
+                    for (c, b) in o.iter_mut().enumerate() {
+                        let ch = c.min(last);
+                        let (lo, hi) = ranges[ch];
+                        *b = to_byte(if hi > lo {
+                            (v[ch] - lo) / (hi - lo)
                         } else {
-                            0.0
+                            1.0
                         });
                     }
                 }
-                bytes.extend(px);
-            }
-            scaled.then(|| {
-                serde_json::json!({
+                Some(serde_json::json!({
                     "min": ranges.iter().map(|r| r.0).collect::<Vec<_>>(),
                     "max": ranges.iter().map(|r| r.1).collect::<Vec<_>>(),
                     "mapping": "byte = floor(255 * (value - min) / (max - min)); pixels that hit nothing are black",
-                })
-            })
+                }))
+            } else {
+                for ((o, v), _) in hits {
+                    for (b, x) in o.iter_mut().zip(v) {
+                        *b = to_byte(*x);
+                    }
+                }
+                None
+            }
         }
     };
     (bytes, sidecar)
