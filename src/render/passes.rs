@@ -360,8 +360,9 @@ pub(crate) fn render_region(
             }
         }
     }
+    // The counts as f32 planes, on every core.
     let rays_per_pixel = count.then(|| {
-        let all: Vec<f32> = counts.iter().map(|&n| n as f32).collect();
+        let all: Vec<f32> = counts.par_iter().map(|&n| n as f32).collect();
         crop(all, 1, area, region)
     });
     let shading = shading.map(|_| {
@@ -369,10 +370,10 @@ pub(crate) fn render_region(
         planes.into_iter().map(cropped).collect()
     });
     let costs = cost.then(|| {
-        let all = costs
-            .iter()
-            .flat_map(|q| [q.nodes as f32, q.tests as f32])
-            .collect();
+        let mut all = vec![0f32; costs.len() * 2];
+        all.par_chunks_mut(2).zip(&costs).for_each(|(o, q)| {
+            o.copy_from_slice(&[q.nodes as f32, q.tests as f32]);
+        });
         crop(all, 2, area, region)
     });
     Some(Rendered {
