@@ -47,7 +47,7 @@ pub(crate) struct Found {
 }
 
 /// One K-nearest search's results: candidates within the bound, cut to
-/// the K least by [`Found::key`] whenever they reach 2K (one selection
+/// the K least by (d², index) whenever they reach 2K (one selection
 /// per K candidates instead of a heap's sift per candidate).
 #[derive(Default)]
 pub(crate) struct Nearest {
