@@ -176,18 +176,6 @@ pub(crate) fn pass_image(
     let mut bytes = vec![0u8; hit.len() * 3];
     let pixels = bytes.chunks_exact_mut(3);
     let sidecar = match p.name.as_str() {
-        "normal" => {
-            for ((o, n), _) in pixels
-                .zip(p.data.chunks_exact(3))
-                .zip(hit)
-                .filter(|(_, h)| **h)
-            {
-                for (b, x) in o.iter_mut().zip(n) {
-                    *b = to_byte(0.5 + 0.5 * x);
-                }
-            }
-            None
-        }
         "why" => {
             let mut legend = serde_json::Map::new();
             let mut seen = Seen::default();
@@ -220,8 +208,8 @@ pub(crate) fn pass_image(
             }
             Some(serde_json::Value::Object(legend))
         }
-        _ => {
-            let scaled = matches!(p.name.as_str(), "depth" | "position" | "rays" | "cost");
+        name => {
+            let scaled = matches!(name, "depth" | "position" | "rays" | "cost");
             let last = p.channels - 1;
             let hits = pixels
                 .zip(p.data.chunks_exact(p.channels))
@@ -246,9 +234,15 @@ pub(crate) fn pass_image(
                     "mapping": "byte = floor(255 * (value - min) / (max - min)); pixels that hit nothing are black",
                 }))
             } else {
+                // Normals as 0.5 + 0.5·n, the rest as they are.
+                let (base, gain) = if name == "normal" {
+                    (0.5, 0.5)
+                } else {
+                    (0.0, 1.0)
+                };
                 for ((o, v), _) in hits {
                     for (b, x) in o.iter_mut().zip(v) {
-                        *b = to_byte(*x);
+                        *b = to_byte(base + gain * x);
                     }
                 }
                 None

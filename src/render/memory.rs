@@ -34,8 +34,9 @@ const PASS_CHANNEL: u64 = 16;
 const PROGRESSIVE_PIXEL: u64 = 192;
 
 /// Bytes a stored photon takes once the map is built: the k-d tree's
-/// positions, directions and indices, the build's entries, the grid's keys
-/// and lists (about 170), with room.
+/// positions, directions and indices, the build's entries and splits, the
+/// map's photons in tree order, the grid's keys and lists (about 210), with
+/// room.
 const MAP_PHOTON: u64 = 256;
 
 /// What a render of `pixels` pixels on `threads` threads, with passes of

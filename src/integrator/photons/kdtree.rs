@@ -180,18 +180,15 @@ impl KdTree {
             return;
         }
         let (q, side) = (x.to_array(), side.to_array());
-        self.visit(0, 0, self.pos.len(), q, side, [0.0; 3], out);
+        self.visit((0, 0, self.pos.len()), q, side, [0.0; 3], out);
         out.cut(&self.index);
     }
 
     /// Searches node `node`, the range `[lo, hi)`, whose box is `off` away
     /// from `q` along each axis (at least: the splits met on the way down).
-    #[allow(clippy::too_many_arguments)]
     fn visit(
         &self,
-        node: usize,
-        lo: usize,
-        hi: usize,
+        (node, lo, hi): (usize, usize, usize),
         q: [f64; 3],
         side: [f64; 3],
         off: [f64; 3],
@@ -209,7 +206,7 @@ impl KdTree {
         } else {
             ((2 * node + 2, mid, hi), (2 * node + 1, lo, mid))
         };
-        self.visit(near.0, near.1, near.2, q, side, off, out);
+        self.visit(near, q, side, off, out);
         // Every photon across the split is at least |d| away along the
         // axis, and `off` away along the others: a lower bound of their d²,
         // kept a hair below it (1e-9) so that rounding never prunes a photon
@@ -218,7 +215,7 @@ impl KdTree {
         far_off[a] = d;
         let box_d2 = far_off[0] * far_off[0] + far_off[1] * far_off[1] + far_off[2] * far_off[2];
         if box_d2 <= out.bound * (1.0 + 1e-9) {
-            self.visit(far.0, far.1, far.2, q, side, far_off, out);
+            self.visit(far, q, side, far_off, out);
         }
     }
 
