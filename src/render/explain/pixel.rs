@@ -2,15 +2,15 @@
 //! that pixel (the same samples, the anti-aliasing's decision included),
 //! with the bytes the render writes there and a verdict on why.
 
-use super::frame::Frame;
-use super::passes::differs;
-use super::verdict::verdict;
 use crate::accel::PACKET_MAX;
 use crate::geometry::{Ray, offset_origin};
 use crate::integrator::{
     AaHash, AntiAlias, Blocker, PathState, RayNode, RayTree, SceneAccel, ShadowHints,
 };
 use crate::output::Image;
+use crate::render::frame::Frame;
+use crate::render::passes::differs;
+use crate::render::verdict::verdict;
 use crate::sampling::strata;
 use crate::scene::{LightKind, Origin, Scene};
 use glam::DVec3;

@@ -2,9 +2,9 @@
 //! schema is in docs/debugging.md). Fans of glossy rays are summed up
 //! (count, mean, spread) unless `expand` is asked for.
 
-use super::explain::{Explanation, ProgressiveTerm, Sampling};
-use super::verdict::{named, place};
+use super::pixel::{Explanation, ProgressiveTerm, Sampling};
 use crate::integrator::{LightTerm, RayKind, RayNode};
+use crate::render::verdict::{named, place};
 use glam::DVec3;
 use serde_json::{Value, json};
 use std::fmt::Write;

@@ -1,0 +1,521 @@
+//! The [`Renderer`]: a scene prepared once (its acceleration structure
+//! built) and rendered again and again, whole or a region, as
+//! [`RenderOptions`] say.
+
+use super::aov::Aov;
+use super::film::{Film, Region};
+use super::frame::Frame;
+use super::passes::{self, Keep, Watch, render_region};
+use super::shading_passes::{LIGHT_PASSES_MAX, ShadingPasses};
+use super::{Control, PhotonStats, RenderError, RenderOptions, RenderStats, Stage};
+use super::{memory, photons, schedule};
+use crate::integrator::photons::{PhotonMap, PhotonMode, Plan, Term};
+use crate::integrator::{Integrator, Model, PhotonShading, SceneAccel};
+use crate::output::Image;
+use crate::scene::{Camera, MAX_IMAGE_SIDE, Scene};
+use std::time::{Duration, Instant};
+
+/// A scene prepared for rendering: it owns the scene and the acceleration
+/// structure built over its surfaces, so it renders again and again
+/// (other options, other regions) without building anything twice.
+pub struct Renderer {
+    pub(super) scene: Scene,
+    pub(super) accel: SceneAccel,
+    build: Duration,
+}
+
+impl Renderer {
+    /// Prepares `scene`: builds its acceleration structure (which takes the
+    /// scene's surfaces).
+    pub fn new(mut scene: Scene) -> Renderer {
+        let start = Instant::now();
+        let accel = SceneAccel::build(scene.take_objects());
+        Renderer {
+            scene,
+            accel,
+            build: start.elapsed(),
+        }
+    }
+
+    /// The acceleration structure over the scene's surfaces.
+    pub(crate) fn accel(&self) -> &SceneAccel {
+        &self.accel
+    }
+
+    /// The scene it renders (its surfaces are in [`Renderer::accel`]).
+    pub(crate) fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// The ray through the centre of pixel (x, y) of a `w` × `h` render,
+    /// as the render traces it.
+    pub(crate) fn centre_rays(
+        &self,
+        w: u32,
+        h: u32,
+    ) -> impl Fn(u32, u32) -> crate::geometry::Ray + '_ {
+        let frame = self.frame(w, h, 0, PhotonShading::default());
+        move |x, y| frame.ray(x, y, 0.5, 0.5)
+    }
+
+    /// How long building the acceleration structure took.
+    pub fn build_time(&self) -> Duration {
+        self.build
+    }
+
+    /// The frame size `options` give: the camera's, or the overrides
+    /// (one alone keeps the camera's aspect).
+    pub fn frame_size(&self, options: &RenderOptions) -> Result<(u32, u32), RenderError> {
+        for (name, v) in [("width", options.width), ("height", options.height)] {
+            if let Some(value) = v
+                && (value == 0 || value > MAX_IMAGE_SIDE)
+            {
+                return Err(RenderError::Side { name, value });
+            }
+        }
+        let cam = self.scene.camera();
+        let (w0, h0) = (cam.width as f64, cam.height as f64);
+        let scaled = |v: f64| (v.round() as u32).clamp(1, MAX_IMAGE_SIDE);
+        Ok(match (options.width, options.height) {
+            (Some(w), Some(h)) => (w, h),
+            (Some(w), None) => (w, scaled(w as f64 * h0 / w0)),
+            (None, Some(h)) => (scaled(h as f64 * w0 / h0), h),
+            (None, None) => (cam.width, cam.height),
+        })
+    }
+
+    /// Renders the frame (or the region) `options` ask for.
+    pub fn render(&self, options: &RenderOptions) -> Result<Film, RenderError> {
+        self.render_with(options, Control::default())
+            .map(|(film, _)| film)
+    }
+
+    /// [`Renderer::render`], telling `control` its progress and stopping
+    /// when its flag is set; with the figures of the render.
+    pub fn render_with(
+        &self,
+        options: &RenderOptions,
+        control: Control<'_>,
+    ) -> Result<(Film, RenderStats), RenderError> {
+        let start = Instant::now();
+        let (w, h) = self.frame_size(options)?;
+        let region = options.region.unwrap_or(Region::full(w, h));
+        if !region.fits(w, h) {
+            return Err(RenderError::Region {
+                region,
+                frame_w: w,
+                frame_h: h,
+            });
+        }
+        let (plan, map, mut photon_stats) = self.photon_pass(options);
+        let tracing = self.photon_shading(&plan, map.as_ref());
+        let (spp, frame) = self.sampled_frame(w, h, options, tracing);
+        let watch = Watch {
+            progress: control.progress.unwrap_or(&|_, _| {}),
+            cancel: control.cancel,
+        };
+        let count = options.aovs.contains(&Aov::Rays);
+        let shading = ShadingPasses::of(&options.aovs, &self.scene).map_err(|asked| {
+            RenderError::LightPasses {
+                asked,
+                max: LIGHT_PASSES_MAX,
+            }
+        })?;
+        let mut photon_term = None;
+        let done = if plan.mode.progressive() {
+            let checkpoint = match control.checkpoint_every {
+                0 => 10,
+                n => n,
+            };
+            let p = self.progressive(&frame, &plan, options.seed, checkpoint);
+            let mut each = |i: u64, pixels: &[[f32; 3]]| {
+                if let Some(checkpoint) = control.checkpoint {
+                    let image = Image::from_pixels(region.width, region.height, pixels.to_vec());
+                    checkpoint(i, &Film::new((w, h), region, image));
+                }
+            };
+            let done = schedule::with_threads(options.threads, || {
+                photons::progressive(&p, region, spp, &watch, &mut each)
+            })
+            .map_err(RenderError::from)?;
+            let (pixels, rays) = (done.pixels, done.rays);
+            photon_stats = done.stats;
+            photon_term = Some(done.photons);
+            // The passes of the ray-traced part, from one render of it.
+            let keep = Keep {
+                rays: count,
+                shading: shading.as_ref(),
+                cost: options.aovs.contains(&Aov::Cost),
+            };
+            let traced = if count || keep.cost || shading.is_some() {
+                let done = schedule::with_threads(options.threads, || {
+                    render_region(&frame, region, spp, keep, &watch)
+                });
+                Some(done.ok_or(RenderError::Cancelled)?)
+            } else {
+                None
+            };
+            let (rays_per_pixel, shading, costs) = match traced {
+                Some(t) => (t.rays_per_pixel, t.shading, t.costs),
+                None => (None, None, None),
+            };
+            passes::Rendered {
+                pixels,
+                rays,
+                refined: 0,
+                rays_per_pixel,
+                shading,
+                costs,
+            }
+        } else {
+            let done = schedule::with_threads(options.threads, || {
+                let keep = Keep {
+                    rays: count,
+                    shading: shading.as_ref(),
+                    cost: options.aovs.contains(&Aov::Cost),
+                };
+                render_region(&frame, region, spp, keep, &watch)
+            });
+            done.ok_or(RenderError::Cancelled)?
+        };
+        let (rays, refined) = (done.rays, done.refined);
+        let image = Image::from_pixels(region.width, region.height, done.pixels);
+        let mut film = Film::new((w, h), region, image);
+        let mut planes = Vec::new();
+        if let Some(shaded) = done.shading {
+            planes.extend(shaded);
+        }
+        if let Some(term) = photon_term {
+            // PPM's and SPPM's estimate, not the ray tracer's (zero) term.
+            planes.retain(|(a, _)| *a != Aov::Photons);
+            planes.push((Aov::Photons, term));
+        }
+        if let Some(counts) = done.rays_per_pixel {
+            planes.push((Aov::Rays, counts));
+        }
+        if let Some(costs) = done.costs {
+            planes.push((Aov::Cost, costs));
+        }
+        // In the order asked for.
+        for &aov in &options.aovs {
+            if let Some((_, data)) = planes.iter_mut().find(|(a, _)| *a == aov) {
+                film.set_plane(&aov.name(), aov.channels(), std::mem::take(data));
+            }
+        }
+        let stats = RenderStats {
+            rays,
+            elapsed: start.elapsed(),
+            build: self.build,
+            refined_pixels: refined,
+            photons: photon_stats,
+        };
+        Ok((film, stats))
+    }
+
+    /// For each primitive block that made a surface (0-based index): its
+    /// shape's kind and the 1-based line of its header.
+    pub fn primitive_table(&self) -> std::collections::BTreeMap<u32, (&'static str, Option<u32>)> {
+        let mut table = std::collections::BTreeMap::new();
+        for o in self.accel.objects() {
+            if let Some(b) = o.block() {
+                table
+                    .entry(b)
+                    .or_insert_with(|| (o.shape().kind_name(), self.scene.block_line(b)));
+            }
+        }
+        table
+    }
+
+    /// The scene file's name, as given (`None`: parsed from text).
+    pub fn scene_file(&self) -> Option<String> {
+        self.scene.path().map(|p| p.display().to_string())
+    }
+
+    /// The frame of a `w` × `h` render with the random streams of `seed`,
+    /// shading with `photons`.
+    pub(super) fn frame<'s>(
+        &'s self,
+        w: u32,
+        h: u32,
+        seed: u64,
+        photons: PhotonShading<'s>,
+    ) -> Frame<'s> {
+        let camera = Camera {
+            width: w,
+            height: h,
+            ..self.scene.camera().clone()
+        };
+        let integrator = Integrator::whitted(&self.scene, &camera, &self.accel, photons);
+        Frame::new(&camera, integrator, seed)
+    }
+
+    /// The frame `options` render and the samples a pixel takes: `--spp`,
+    /// or with an open lens `dofSample=` rays through the pixel's centre.
+    pub(super) fn sampled_frame<'s>(
+        &'s self,
+        w: u32,
+        h: u32,
+        options: &RenderOptions,
+        photons: PhotonShading<'s>,
+    ) -> (Option<u32>, Frame<'s>) {
+        let frame = self.frame(w, h, options.seed, photons);
+        let dof = &self.scene.camera().dof;
+        match options.spp {
+            None if dof.aperture > 0.0 => (Some(dof.samples.max(1)), frame.centred()),
+            spp => (spp, frame),
+        }
+    }
+
+    /// The photon plan `options` give and, under PM, its photon map
+    /// (traced as the render traces it) with the pass's figures.
+    pub(super) fn photon_pass(
+        &self,
+        options: &RenderOptions,
+    ) -> (Plan, Option<PhotonMap>, PhotonStats) {
+        let (plan, _) = Plan::of(&self.scene, &options.photons);
+        if plan.mode != PhotonMode::Pm {
+            return (plan, None, PhotonStats::default());
+        }
+        let model = Model::of(self.scene.dialect().dialect, self.scene.camera());
+        let (map, stats) = schedule::with_threads(options.threads, || {
+            photons::photon_map(&self.scene, &self.accel, &model, &plan, options.seed)
+        });
+        (plan, Some(map), stats)
+    }
+
+    /// PPM's or SPPM's iterations under `plan` on `frame`, its picture
+    /// composed every `checkpoint` iterations.
+    pub(super) fn progressive<'s>(
+        &'s self,
+        frame: &'s Frame<'s>,
+        plan: &'s Plan,
+        seed: u64,
+        checkpoint: u64,
+    ) -> photons::Progressive<'s> {
+        photons::Progressive {
+            frame,
+            scene: &self.scene,
+            accel: &self.accel,
+            plan,
+            seed,
+            checkpoint,
+        }
+    }
+
+    /// How the ray tracer shades under `plan`, gathering from `map` (PM).
+    pub(super) fn photon_shading<'s>(
+        &self,
+        plan: &Plan,
+        map: Option<&'s PhotonMap>,
+    ) -> PhotonShading<'s> {
+        PhotonShading {
+            map,
+            no_direct: plan.mode != PhotonMode::Off && plan.term == Term::Replace,
+            specular: plan.specular,
+        }
+    }
+
+    /// An upper bound of the bytes a render of `options` takes on top of
+    /// what the process holds before it, for every output format, sampling
+    /// mode, pass and photon algorithm (photons and hit points bounded by
+    /// their keys).
+    pub fn memory_needed(&self, options: &RenderOptions) -> Result<u64, RenderError> {
+        let pixels = self.pixels(options)?;
+        let threads = schedule::workers(options.threads) as u64;
+        let channels = options.aovs.iter().map(|a| a.channels() as u64).sum();
+        let plan = Plan::of(&self.scene, &options.photons).0;
+        Ok(memory::memory_needed(pixels, threads, channels, &plan))
+    }
+
+    /// The pixels a render of `options` fills: its region's, or the frame's.
+    pub(super) fn pixels(&self, options: &RenderOptions) -> Result<u64, RenderError> {
+        let (w, h) = self.frame_size(options)?;
+        Ok(match options.region {
+            Some(r) => r.area(),
+            None => u64::from(w) * u64::from(h),
+        })
+    }
+
+    /// The notes and warnings about photons a render of `options` makes:
+    /// which algorithm runs, keys without effect, settings that switch it off.
+    pub fn photon_notes(&self, options: &RenderOptions) -> Vec<String> {
+        Plan::of(&self.scene, &options.photons).1
+    }
+
+    /// Renders a quarter-size preview at one ray per pixel, hands it to
+    /// `show`, then renders what `options` ask for and hands that over too
+    /// (a region is rendered without a preview). Stops at once when the
+    /// flag of `control` is set.
+    pub fn render_progressive(
+        &self,
+        options: &RenderOptions,
+        control: Control<'_>,
+        show: &mut dyn FnMut(Stage, &Film),
+    ) -> Result<(Film, RenderStats), RenderError> {
+        if options.region.is_none() {
+            let (w, h) = self.frame_size(options)?;
+            let coarse = RenderOptions {
+                width: Some(w.div_ceil(4)),
+                height: Some(h.div_ceil(4)),
+                spp: Some(1),
+                ..options.clone()
+            };
+            let quiet = Control {
+                progress: None,
+                ..control
+            };
+            let (film, _) = self.render_with(&coarse, quiet)?;
+            show(Stage::Coarse, &film);
+        }
+        let (film, stats) = self.render_with(options, control)?;
+        show(Stage::Final, &film);
+        Ok((film, stats))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+    use std::sync::atomic::AtomicBool;
+
+    /// A small scene of every kind of event the anti-aliasing sees: edges,
+    /// a mirror, glass, shadows of a point and an area light, a texture-free
+    /// gradient sky.
+    fn scene() -> Renderer {
+        let text = "background\n top= 0.6 0.7 0.9\n bottom= 0.1 0.1 0.1\nend\n\
+             camera\n O= 0 -8 3\n N= 0 1 -0.3\n image_W= 40\n image_H= 30\n shade_quality= 1\n drefl_quality= 1\nend\n\
+             light point\n O= 4 -6 8\n color= 0.8 0.8 0.8\nend\n\
+             light square\n O= -3 0 6\n Dx= 0.5 0 0\n Dy= 0 0.5 0\n color= 0.4 0.4 0.4\nend\n\
+             primitive plane\n N= 0 0 1\n R= 0\n color= 0.8 0.8 0.8\n diff= 0.7\n refl= 0.2\n drefl= 0.1\nend\n\
+             primitive cube\n O= 1.5 0 1\n x= 0.7\n y= 0.7\n z= 0.7\n color= 1 0.3 0.2\n diff= 0.6\n refl= 0.3\nend\n\
+             primitive sphere\n O= -1.2 -0.5 1\n R= 1\n color= 1 1 1\n refr= 0.9\n rindex= 1.5\n absor= 0.2 0.1 0\nend\n\
+             primitive cylinder\n O1= 0 2 0\n O2= 0 2 2.5\n R= 0.4\n color= 0.2 0.9 0.3\n diff= 0.8\n spec= 0.3\nend\n";
+        match Scene::parse(text, ".") {
+            Ok(s) => Renderer::new(s),
+            Err(e) => panic!("{e}"), // invariant: the test's own fixed input (a failure fails the test)
+        }
+    }
+
+    fn render(r: &Renderer, options: &RenderOptions) -> Image {
+        match r.render(options) {
+            Ok(film) => film.into_image(),
+            Err(e) => panic!("{e}"), // invariant: the test's own fixed input (a failure fails the test)
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig {
+            cases: 48,
+            failure_persistence: None,
+            rng_seed: proptest::test_runner::RngSeed::Fixed(5),
+            ..ProptestConfig::default()
+        })]
+
+        /// A region's pixels are the same values as those pixels of the whole
+        /// frame, at any size, with adaptive anti-aliasing and with --spp.
+        #[test]
+        fn a_region_is_the_whole_render_cut(
+            w in 1u32..48, h in 1u32..40,
+            fx in 0.0..1.0f64, fy in 0.0..1.0f64, fw in 0.0..1.0f64, fh in 0.0..1.0f64,
+            spp in prop::sample::select(vec![None, Some(1), Some(3)]),
+            seed in 0u64..4,
+        ) {
+            let r = scene();
+            let full = RenderOptions { width: Some(w), height: Some(h), spp, seed, threads: Some(2), ..RenderOptions::default() };
+            let whole = render(&r, &full);
+            let x = ((w as f64 * fx) as u32).min(w - 1);
+            let y = ((h as f64 * fy) as u32).min(h - 1);
+            let rw = 1 + ((w - x - 1) as f64 * fw) as u32;
+            let rh = 1 + ((h - y - 1) as f64 * fh) as u32;
+            let region = Region { x, y, width: rw, height: rh };
+            let part = render(&r, &RenderOptions { region: Some(region), ..full.clone() });
+            prop_assert_eq!((part.width(), part.height()), (rw, rh));
+            for j in 0..rh {
+                for i in 0..rw {
+                    prop_assert_eq!(part.pixel(i, j), whole.pixel(x + i, y + j), "pixel {} {}", x + i, y + j);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn regions_outside_the_frame_and_bad_sizes_are_errors() {
+        let r = scene();
+        let at = |x, y, width, height| RenderOptions {
+            region: Some(Region {
+                x,
+                y,
+                width,
+                height,
+            }),
+            ..RenderOptions::default()
+        };
+        for bad in [
+            at(0, 0, 0, 1),
+            at(0, 0, 41, 1),
+            at(39, 29, 2, 1),
+            at(u32::MAX, 0, 2, 1),
+        ] {
+            assert!(
+                matches!(r.render(&bad), Err(RenderError::Region { .. })),
+                "{bad:?}"
+            );
+        }
+        assert!(r.render(&at(39, 29, 1, 1)).is_ok());
+        let wide = RenderOptions {
+            width: Some(MAX_IMAGE_SIDE + 1),
+            ..RenderOptions::default()
+        };
+        assert_eq!(
+            r.render(&wide),
+            Err(RenderError::Side {
+                name: "width",
+                value: MAX_IMAGE_SIDE + 1
+            })
+        );
+        // One side alone keeps the camera's 4:3.
+        let one = RenderOptions {
+            width: Some(80),
+            ..RenderOptions::default()
+        };
+        assert_eq!(r.frame_size(&one), Ok((80, 60)));
+    }
+
+    #[test]
+    fn a_set_flag_cancels_the_render() {
+        let r = scene();
+        let flag = AtomicBool::new(true);
+        let control = Control {
+            cancel: Some(&flag),
+            ..Control::default()
+        };
+        for spp in [None, Some(2)] {
+            let options = RenderOptions {
+                spp,
+                ..RenderOptions::default()
+            };
+            assert_eq!(
+                r.render_with(&options, control).map(|_| ()),
+                Err(RenderError::Cancelled)
+            );
+        }
+        flag.store(false, std::sync::atomic::Ordering::Relaxed);
+        assert!(r.render_with(&RenderOptions::default(), control).is_ok());
+    }
+
+    #[test]
+    fn a_progressive_render_shows_a_coarse_then_the_final_image() {
+        let r = scene();
+        let mut shown = Vec::new();
+        let options = RenderOptions::default();
+        let (film, _) = match r.render_progressive(&options, Control::default(), &mut |stage, f| {
+            shown.push((stage, f.image().width(), f.image().height()));
+        }) {
+            Ok(done) => done,
+            Err(e) => panic!("{e}"), // invariant: the test's own fixed input (a failure fails the test)
+        };
+        assert_eq!(shown, vec![(Stage::Coarse, 10, 8), (Stage::Final, 40, 30)]);
+        assert_eq!(film.image(), &render(&r, &options));
+    }
+}
