@@ -2,7 +2,7 @@
 //! a heat map of the differences, and the differing pixels grouped by the
 //! primitive glint sees there (its `primitive` pass), worst first.
 
-use crate::output::Image;
+use crate::image::Image;
 use crate::render::{Aov, RenderError, RenderOptions, Renderer, place};
 use serde_json::{Value, json};
 use std::fmt::Write;

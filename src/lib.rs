@@ -28,9 +28,9 @@ mod format;
 pub mod geometry;
 #[cfg(not(feature = "bench"))]
 mod geometry;
+mod image;
 mod integrator;
 mod output;
-mod pass_files;
 mod probe;
 mod render;
 mod sampling;
@@ -172,11 +172,12 @@ pub mod fuzzing {
 pub use check::{CheckReport, Code, ESTIMATE_RAYS_PER_SECOND, Finding, check};
 pub use compare::{CompareError, Comparison, DEFAULT_THRESHOLD, Group, compare, read_picture};
 pub use geometry::Shape;
+pub use image::Image;
 pub use integrator::photons::{PhotonFilter, PhotonMode, PhotonOptions};
 pub use integrator::{Blocker, HitInfo, LightTerm, PhotonTerm, RayCounts, RayKind, RayNode};
-pub use output::{Format, Image, SaveError};
-pub use pass_files::{
-    PrimitiveTable, pass_path, primitive_colour, save_exr_layers, save_pass_images,
+pub use output::{
+    Format, PrimitiveTable, SaveError, pass_path, primitive_colour, save_exr_layers,
+    save_pass_images,
 };
 pub use probe::{
     MAX_RAY_ERRORS, ProbeHit, RayError, RaysError, parse_ray, read_rays, to_json, to_text,

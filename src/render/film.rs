@@ -1,7 +1,7 @@
 //! The film: what a render produces for a region of the full frame, the
 //! colour and any named planes of f32 channels beside it.
 
-use crate::output::Image;
+use crate::image::Image;
 
 /// A rectangle of pixels of the full frame: columns `x..x + width`, rows
 /// `y..y + height`, rows counted from the top.

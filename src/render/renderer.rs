@@ -9,9 +9,9 @@ use super::passes::{self, Keep, Watch, render_region};
 use super::shading_passes::{LIGHT_PASSES_MAX, ShadingPasses};
 use super::{Control, PhotonStats, RenderError, RenderOptions, RenderStats, Stage};
 use super::{memory, photons, schedule};
+use crate::image::Image;
 use crate::integrator::photons::{PhotonMap, PhotonMode, Plan, Term};
 use crate::integrator::{Integrator, Model, PhotonShading, SceneAccel};
-use crate::output::Image;
 use crate::scene::{Camera, MAX_IMAGE_SIDE, Scene};
 use std::time::{Duration, Instant};
 

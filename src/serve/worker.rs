@@ -319,14 +319,14 @@ fn render_version(
     let Some(film) = passes_film(&renderer, &pass_options, size, control) else {
         return;
     };
-    let hit = crate::pass_files::hit_mask(&film);
+    let hit = crate::output::hit_mask(&film);
     let table = renderer.primitive_table();
     let file = renderer.scene_file();
     let passes: Vec<(String, Arc<Vec<u8>>)> = film
         .planes()
         .iter()
         .filter_map(|p| {
-            let (rgb, _) = crate::pass_files::pass_image(p, &hit, &table, file.as_deref());
+            let (rgb, _) = crate::output::pass_image(p, &hit, &table, file.as_deref());
             let (w, h) = (film.image().width(), film.image().height());
             let png = crate::output::encode_rgb8(w, h, rgb, Format::Png).ok()?;
             Some((p.name.clone(), Arc::new(png)))

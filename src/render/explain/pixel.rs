@@ -4,10 +4,10 @@
 
 use crate::accel::PACKET_MAX;
 use crate::geometry::{Ray, offset_origin};
+use crate::image::Image;
 use crate::integrator::{
     AaHash, AntiAlias, Blocker, PathState, RayNode, RayTree, SceneAccel, ShadowHints,
 };
-use crate::output::Image;
 use crate::render::frame::Frame;
 use crate::render::passes::differs;
 use crate::render::verdict::verdict;

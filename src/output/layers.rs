@@ -4,7 +4,9 @@
 //! their range in a sidecar `OUT.PASS.json`; primitives as false colours with a
 //! legend `OUT.primitive.json`, the verdict's kinds likewise in `OUT.why.json`).
 
-use crate::output::{Format, SaveError, encode_rgb8, to_byte, write_atomically};
+use super::atomic::write_atomically;
+use super::picture::{Format, SaveError, encode_rgb8};
+use crate::image::to_byte;
 use crate::render::{Cause, Film, Plane};
 use rayon::prelude::*;
 use std::collections::BTreeMap;

@@ -1,17 +1,10 @@
-//! Rendered images and writing them to disk atomically.
+//! Writing a picture: the formats glint writes, chosen by extension, and
+//! their encoding.
 
-use glam::DVec3;
-use std::io::Write;
+use super::atomic::write_atomically;
+use crate::image::Image;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
-
-/// A rendered picture: linear RGB floats, rows from the top.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Image {
-    width: u32,
-    height: u32,
-    pixels: Vec<[f32; 3]>,
-}
+use std::sync::atomic::AtomicBool;
 
 /// Why an image could not be written.
 #[derive(Debug, thiserror::Error)]
@@ -69,61 +62,6 @@ impl Format {
 }
 
 impl Image {
-    /// An image whose pixel (x, y) (y from the top) is `f(x, y)`.
-    pub fn from_fn(width: u32, height: u32, mut f: impl FnMut(u32, u32) -> DVec3) -> Image {
-        let mut pixels = Vec::with_capacity(width as usize * height as usize);
-        for y in 0..height {
-            for x in 0..width {
-                pixels.push(f(x, y).as_vec3().to_array());
-            }
-        }
-        Image {
-            width,
-            height,
-            pixels,
-        }
-    }
-
-    /// An image from its pixels, rows from the top (`pixels.len()` must be width × height).
-    pub fn from_pixels(width: u32, height: u32, pixels: Vec<[f32; 3]>) -> Image {
-        // invariant: callers build the buffer from the same width and height.
-        assert_eq!(
-            pixels.len(),
-            width as usize * height as usize,
-            "pixel count"
-        );
-        Image {
-            width,
-            height,
-            pixels,
-        }
-    }
-
-    /// Width in pixels.
-    pub fn width(&self) -> u32 {
-        self.width
-    }
-
-    /// Height in pixels.
-    pub fn height(&self) -> u32 {
-        self.height
-    }
-
-    /// The linear colour of pixel (x, y), y from the top.
-    pub fn pixel(&self, x: u32, y: u32) -> [f32; 3] {
-        self.pixels[(y * self.width + x) as usize]
-    }
-
-    /// The framework's 8-bit output: floor(255 · clamp(c, 0, 1)) per channel, no gamma.
-    pub fn to_rgb8(&self) -> Vec<u8> {
-        // A flat, sized iterator: one allocation, no copies as it grows.
-        self.pixels
-            .as_flattened()
-            .iter()
-            .map(|&c| to_byte(c))
-            .collect()
-    }
-
     /// Writes the image in the format its extension names, through a
     /// temporary file in the same folder renamed into place: a failed write
     /// leaves no partial file and does not touch an existing one.
@@ -156,11 +94,11 @@ impl Image {
         let mut out = std::io::Cursor::new(Vec::new());
         let result = match format {
             Format::Png | Format::Bmp => {
-                return encode_rgb8(self.width, self.height, self.to_rgb8(), format);
+                return encode_rgb8(self.width(), self.height(), self.to_rgb8(), format);
             }
             Format::Exr | Format::Hdr => {
-                let raw = self.pixels.as_flattened().to_vec();
-                let img = Rgb32FImage::from_raw(self.width, self.height, raw)
+                let raw = self.pixels().as_flattened().to_vec();
+                let img = Rgb32FImage::from_raw(self.width(), self.height(), raw)
                     .ok_or("image buffer has the wrong size")?;
                 let f = if format == Format::Exr {
                     ImageFormat::OpenExr
@@ -173,14 +111,6 @@ impl Image {
         result.map_err(|e| e.to_string())?;
         Ok(out.into_inner())
     }
-}
-
-/// A linear value in [0, 1] as a byte: the floor of 255·v, clamped (NaN
-/// gives 0). The cast truncates, which is the floor on [0, 255], without a
-/// call to `floorf`.
-#[inline]
-pub fn to_byte(v: f32) -> u8 {
-    (255.0 * v.clamp(0.0, 1.0)) as u8
 }
 
 /// The encoded file contents of an 8-bit RGB picture, `width` × `height`,
@@ -212,73 +142,11 @@ pub fn encode_rgb8(
     Ok(out.into_inner())
 }
 
-/// Writes `bytes` to a hidden temporary file beside `path`, syncs it and
-/// renames it over `path`; the temporary file is removed on failure, and
-/// when `cancel` is set before the rename (an `Interrupted` error).
-pub fn write_atomically(path: &Path, bytes: &[u8], cancel: &AtomicBool) -> std::io::Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let tmp = dir.join(temporary_name(path));
-    let result = (|| {
-        let mut f = std::fs::OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        if cancel.load(Ordering::Relaxed) {
-            return Err(std::io::Error::from(std::io::ErrorKind::Interrupted));
-        }
-        std::fs::rename(&tmp, path)
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
-}
-
-/// `.glint-<16 hex digits>.tmp` (27 bytes, so any legal output name has a
-/// legal temporary name): a hash of the output path, the host name, the
-/// process, the time and a per-process counter, unique across the hosts
-/// that share a folder.
-fn temporary_name(path: &Path) -> String {
-    use std::hash::{BuildHasher, Hash, Hasher};
-    use std::sync::atomic::AtomicU64;
-    static COUNTER: AtomicU64 = AtomicU64::new(0);
-    // RandomState is seeded from the system's randomness.
-    let mut h = std::collections::hash_map::RandomState::new().build_hasher();
-    path.hash(&mut h);
-    std::fs::read_to_string("/proc/sys/kernel/hostname")
-        .or_else(|_| std::env::var("HOSTNAME"))
-        .unwrap_or_default()
-        .hash(&mut h);
-    std::process::id().hash(&mut h);
-    COUNTER.fetch_add(1, Ordering::Relaxed).hash(&mut h);
-    std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map(|d| d.as_nanos())
-        .unwrap_or_default()
-        .hash(&mut h);
-    format!(".glint-{:016x}.tmp", h.finish())
-}
-
 #[cfg(test)]
 mod tests {
+    use super::super::atomic::temporary_name;
     use super::*;
-
-    #[test]
-    fn quantises_like_the_framework() {
-        let img = Image::from_fn(4, 1, |x, _| DVec3::splat([-0.5, 0.5, 1.0, 7.0][x as usize]));
-        assert_eq!(
-            img.to_rgb8(),
-            vec![0, 0, 0, 127, 127, 127, 255, 255, 255, 255, 255, 255]
-        );
-        // Just below a step stays below it (254.745, 0.9945); NaN is black.
-        let img = Image::from_pixels(1, 1, vec![[0.999, 0.0039, f32::NAN]]);
-        assert_eq!(img.to_rgb8(), vec![254, 0, 0]);
-    }
+    use glam::DVec3;
 
     #[test]
     fn unknown_extension_is_an_error_and_writes_nothing() -> Result<(), Box<dyn std::error::Error>>
