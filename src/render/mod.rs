@@ -7,12 +7,16 @@
 //! asked ([`options`](RenderOptions)) and answers ([`stats`](RenderStats),
 //! [`error`](RenderError), [`estimate`](WorkEstimate)); the camera rays
 //! (`camera`), the frame of samples (`frame`), the anti-aliasing's passes over
-//! bands (`passes`), the shading layers (`shading_passes`), PPM's and SPPM's
+//! bands, one file a layer (`region` runs them: `buffers`, pass 1 over a
+//! band in `band`, pass 2 in `refine`, the observer picked in `observe`,
+//! `progress`), the shading layers (`shading_passes`), PPM's and SPPM's
 //! iterations (`photons`), the film (`film`, `aov`), the memory bound
 //! (`memory`), threads (`schedule`), `explain` and the verdict's rules it
 //! shares with the `why` layer (`verdict`).
 
 mod aov;
+mod band;
+mod buffers;
 mod camera;
 mod error;
 mod estimate;
@@ -20,9 +24,12 @@ mod explain;
 mod film;
 mod frame;
 mod memory;
+mod observe;
 mod options;
-mod passes;
 mod photons;
+mod progress;
+mod refine;
+mod region;
 mod renderer;
 mod schedule;
 mod shading_passes;

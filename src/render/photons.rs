@@ -2,9 +2,11 @@
 //! the frame; PPM and SPPM add iterations of photon passes to the
 //! ray-traced direct light and compose the picture after each.
 
+use super::buffers::Keep;
 use super::film::Region;
 use super::frame::Frame;
-use super::passes::{Keep, Watch, render_region};
+use super::progress::Watch;
+use super::region::render_region;
 use crate::integrator::photons::{
     Brdf, HitPoint, HitPointObserver, HitPointSeed, PhotonGrid, PhotonMap, PhotonMode, Plan,
     gather, shoot, update_hit_point,

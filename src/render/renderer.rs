@@ -3,9 +3,11 @@
 //! [`RenderOptions`] say.
 
 use super::aov::Aov;
+use super::buffers::{Keep, Rendered};
 use super::film::{Film, Region};
 use super::frame::Frame;
-use super::passes::{self, Keep, Watch, render_region};
+use super::progress::Watch;
+use super::region::render_region;
 use super::shading_passes::{LIGHT_PASSES_MAX, ShadingPasses};
 use super::{Control, PhotonStats, RenderError, RenderOptions, RenderStats, Stage};
 use super::{memory, photons, schedule};
@@ -159,7 +161,7 @@ impl Renderer {
                 Some(t) => (t.rays_per_pixel, t.shading, t.costs),
                 None => (None, None, None),
             };
-            passes::Rendered {
+            Rendered {
                 pixels,
                 rays,
                 refined: 0,

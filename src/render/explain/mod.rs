@@ -7,7 +7,7 @@ mod report;
 
 pub use pixel::{Explanation, HitPointTerm, ProgressiveTerm, Sampling};
 
-use super::passes::Watch;
+use super::progress::Watch;
 use super::{Region, RenderError, RenderOptions, Renderer, photons, schedule};
 use crate::integrator::photons::PhotonMode;
 

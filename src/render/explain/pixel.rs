@@ -9,7 +9,7 @@ use crate::integrator::{
     AaHash, AntiAlias, Blocker, PathState, RayNode, RayTree, SceneAccel, ShadowHints,
 };
 use crate::render::frame::Frame;
-use crate::render::passes::differs;
+use crate::render::refine::differs;
 use crate::render::verdict::verdict;
 use crate::sampling::strata;
 use crate::scene::{LightKind, Origin, Scene};
