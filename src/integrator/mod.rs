@@ -21,7 +21,7 @@ pub(crate) use tree::RayTree;
 pub use tree::{Blocker, HitInfo, LightTerm, PhotonTerm, RayNode};
 pub(crate) use visibility::ShadowHints;
 #[cfg(test)]
-pub(crate) use visibility::{ShadowFrom, shade_factor};
+pub(crate) use visibility::{ShadowFrom, ShadowRays, shade_factor};
 
 use crate::geometry::Ray;
 use crate::scene::{Camera, Scene};

@@ -27,46 +27,53 @@ pub(crate) struct ShadowFrom {
     pub object: Option<u32>,
 }
 
-/// The shade factor s in [0, 1]: the fraction of shadow rays from `from`
-/// that reach light `index` (see [`Light::shade`]). Returns s and the
-/// number of shadow rays traced; `hints` is read and updated, and the
-/// queries are counted into `tally`.
+/// The shadow rays of a shading point towards one light: the light,
+/// its index, how many rays, and the structure they query.
+pub(crate) struct ShadowRays<'a> {
+    /// The structure the rays query.
+    pub accel: &'a SceneAccel,
+    /// The light they go to.
+    pub light: &'a Light,
+    /// Its index in the scene.
+    pub index: u32,
+    /// How many an area light takes.
+    pub samples: u32,
+}
+
+/// The shade factor s in [0, 1]: the fraction of the shadow rays `to`
+/// from `from` that reach their light (see [`Light::shade`]). Returns s
+/// and the number of shadow rays traced; `hints` is read and updated, and
+/// the queries are counted into `tally`.
 #[inline(always)]
-#[allow(clippy::too_many_arguments)] // the shadow rays' origin, light, random stream, hints and tally
 pub(crate) fn shade_factor(
-    accel: &SceneAccel,
-    light: &Light,
-    index: u32,
+    to: &ShadowRays,
     from: &ShadowFrom,
-    samples: u32,
     rng: &mut impl Rng,
     hints: &mut ShadowHints,
     tally: &mut impl QueryTally,
 ) -> (f64, u64) {
-    let mut shadow = Shadow::new(accel, light, index, from, samples, hints, tally);
-    light.shade(shadow.origin, samples, rng, |dir, t| shadow.reaches(dir, t))
+    let mut shadow = Shadow::new(to, from, hints, tally);
+    to.light.shade(shadow.origin, to.samples, rng, |dir, t| {
+        shadow.reaches(dir, t)
+    })
 }
 
-/// The mean of `weight(unit direction, distance)` over the shadow samples
-/// from `from` that reach light `index` (see [`Light::shade_weighted`]),
+/// The mean of `weight(unit direction, distance)` over the shadow rays `to`
+/// from `from` that reach their light (see [`Light::shade_weighted`]),
 /// and the number of shadow rays traced.
 #[inline(always)]
-#[allow(clippy::too_many_arguments)] // the arguments of shade_factor and the weight
 pub(crate) fn weighted_light(
-    accel: &SceneAccel,
-    light: &Light,
-    index: u32,
+    to: &ShadowRays,
     from: &ShadowFrom,
-    samples: u32,
     rng: &mut impl Rng,
     hints: &mut ShadowHints,
     tally: &mut impl QueryTally,
     weight: impl FnMut(DVec3, f64) -> f64,
 ) -> (f64, u64) {
-    let mut shadow = Shadow::new(accel, light, index, from, samples, hints, tally);
-    light.shade_weighted(
+    let mut shadow = Shadow::new(to, from, hints, tally);
+    to.light.shade_weighted(
         shadow.origin,
-        samples,
+        to.samples,
         rng,
         |dir, t| shadow.reaches(dir, t),
         weight,
@@ -93,14 +100,17 @@ struct Shadow<'a, T> {
 impl<'a, T: QueryTally> Shadow<'a, T> {
     #[inline(always)]
     fn new(
-        accel: &'a SceneAccel,
-        light: &Light,
-        index: u32,
+        to: &ShadowRays<'a>,
         from: &ShadowFrom,
-        samples: u32,
         hints: &'a mut ShadowHints,
         tally: &'a mut T,
     ) -> Self {
+        let ShadowRays {
+            accel,
+            light,
+            index,
+            samples,
+        } = *to;
         let origin = offset_origin(from.point, from.side);
         let bounds = light.bounds();
         let own = bounds.map(|_| index);

@@ -3,7 +3,7 @@
 //! independent sampling would give.
 
 use crate::accel::Accel;
-use crate::integrator::{ShadowFrom, ShadowHints, shade_factor};
+use crate::integrator::{ShadowFrom, ShadowHints, ShadowRays, shade_factor};
 use crate::scene::{LightKind, Object, Scene};
 use glam::DVec3;
 use rand::{Rng, SeedableRng};
@@ -35,16 +35,13 @@ fn factor(
     let mut rng = Pcg32::seed_from_u64(seed);
     let mut hints = ShadowHints::default();
     let l = &s.lights()[light];
-    shade_factor(
+    let to = ShadowRays {
         accel,
-        l,
-        light as u32,
-        &at(point),
+        light: l,
+        index: light as u32,
         samples,
-        &mut rng,
-        &mut hints,
-        &mut (),
-    )
+    };
+    shade_factor(&to, &at(point), &mut rng, &mut hints, &mut ())
 }
 
 /// Mean and standard deviation of the shade factor at the origin over many seeds.
