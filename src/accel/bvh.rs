@@ -644,7 +644,7 @@ impl Extents {
 /// The shape of a subtree, decided by the first pass of the build: which
 /// items go where and which nodes are leaves, but no boxes yet.
 #[derive(Debug)]
-enum Plan {
+enum BuildPlan {
     /// A subtree planned on one thread.
     Flat(FlatPlan),
     /// An interior node whose halves were planned in parallel.
@@ -652,7 +652,7 @@ enum Plan {
         /// Items of the left half (they come first).
         mid: usize,
         /// The left and right halves.
-        halves: Box<(Plan, Plan)>,
+        halves: Box<(BuildPlan, BuildPlan)>,
         /// Interior nodes, so pairs, of the subtree.
         pairs: usize,
     },
@@ -667,12 +667,12 @@ struct FlatPlan {
     pairs: usize,
 }
 
-impl Plan {
+impl BuildPlan {
     /// Interior nodes of the subtree: the pairs its descendants fill.
     fn pairs(&self) -> usize {
         match self {
-            Plan::Flat(flat) => flat.pairs,
-            Plan::Split { pairs, .. } => *pairs,
+            BuildPlan::Flat(flat) => flat.pairs,
+            BuildPlan::Split { pairs, .. } => *pairs,
         }
     }
 }
@@ -680,7 +680,7 @@ impl Plan {
 /// Plans the subtree over `items` (`ext` their extents), reordering them
 /// into their final order; halves of at least [`PARALLEL_MIN`] items are
 /// planned in parallel.
-fn plan(items: &mut [Item], ext: &Extents, depth: usize) -> Plan {
+fn plan(items: &mut [Item], ext: &Extents, depth: usize) -> BuildPlan {
     if items.len() >= PARALLEL_MIN
         && let Some((mid, left_ext, right_ext)) = split(items, ext, depth)
     {
@@ -689,7 +689,7 @@ fn plan(items: &mut [Item], ext: &Extents, depth: usize) -> Plan {
             || plan(left, &left_ext, depth + 1),
             || plan(right, &right_ext, depth + 1),
         );
-        return Plan::Split {
+        return BuildPlan::Split {
             mid,
             pairs: 1 + halves.0.pairs() + halves.1.pairs(),
             halves: Box::new(halves),
@@ -697,7 +697,7 @@ fn plan(items: &mut [Item], ext: &Extents, depth: usize) -> Plan {
     }
     let mut flat = FlatPlan::default();
     plan_flat(items, ext, depth, &mut flat);
-    Plan::Flat(flat)
+    BuildPlan::Flat(flat)
 }
 
 /// Plans the subtree over `items` on this thread, appending its nodes to `flat`.
@@ -723,9 +723,9 @@ fn plan_flat(items: &mut [Item], ext: &Extents, depth: usize, flat: &mut FlatPla
 /// A node's box is the union of its items' boxes: the same values the split
 /// computed. `out` holds exactly the subtree's pairs, so halves planned in
 /// parallel are written in parallel.
-fn lay_out(plan: &Plan, items: &[Item], offset: u32, out: &mut [Pair], base: u32) -> Node {
+fn lay_out(plan: &BuildPlan, items: &[Item], offset: u32, out: &mut [Pair], base: u32) -> Node {
     match plan {
-        Plan::Flat(flat) => {
+        BuildPlan::Flat(flat) => {
             let mut writer = FlatWriter {
                 plan: flat,
                 next_node: 0,
@@ -738,7 +738,7 @@ fn lay_out(plan: &Plan, items: &[Item], offset: u32, out: &mut [Pair], base: u32
             };
             writer.node()
         }
-        Plan::Split { mid, halves, .. } => {
+        BuildPlan::Split { mid, halves, .. } => {
             let (left_plan, right_plan) = &**halves;
             let (head, rest) = out.split_at_mut(1);
             let (left_out, right_out) = rest.split_at_mut(left_plan.pairs());

@@ -3,8 +3,8 @@
 //! each other (the cracks of a cube built from six squares), and shapes
 //! too degenerate to be seen.
 
-use super::blocks::{Block, name};
 use super::finding::{Code, Findings};
+use super::primitive_blocks::{PrimitiveBlock, name};
 use crate::geometry::Shape;
 use crate::render::Renderer;
 use glam::DVec3;
@@ -34,7 +34,7 @@ struct Face {
 }
 
 /// The faces of the scene's squares, cubes and planes.
-fn faces(renderer: &Renderer, blocks: &[Block]) -> Vec<Face> {
+fn faces(renderer: &Renderer, blocks: &[PrimitiveBlock]) -> Vec<Face> {
     let objects = renderer.accel().objects();
     let mut out = Vec::new();
     for b in blocks {
@@ -82,7 +82,7 @@ fn faces(renderer: &Renderer, blocks: &[Block]) -> Vec<Face> {
 }
 
 /// The size of the scene: the largest side of its bounded objects' box (at least 1).
-fn scale(blocks: &[Block]) -> f64 {
+fn scale(blocks: &[PrimitiveBlock]) -> f64 {
     let mut size: f64 = 1.0;
     for b in blocks {
         if let Some(a) = b.bounds.filter(|a| !a.is_empty()) {
@@ -119,7 +119,7 @@ fn overlap(a: &Face, b: &Face, eps: f64) -> bool {
 }
 
 /// The face lints.
-pub(crate) fn check(renderer: &Renderer, blocks: &[Block], out: &mut Findings) {
+pub(crate) fn check(renderer: &Renderer, blocks: &[PrimitiveBlock], out: &mut Findings) {
     let size = scale(blocks);
     let eps = 1e-6 * size;
     let eye = renderer.scene().camera().origin;

@@ -4,8 +4,8 @@
 //! several objects (the framework's Cornell box of huge spheres) is not
 //! one object, and an open shape lets some ray out.
 
-use super::blocks::{Block, name};
 use super::finding::{Code, Findings};
+use super::primitive_blocks::{PrimitiveBlock, name};
 use crate::geometry::Ray;
 use crate::render::Renderer;
 use crate::scene::{LightKind, Origin};
@@ -60,7 +60,7 @@ pub(crate) fn enclosing(renderer: &Renderer, p: DVec3) -> Option<u32> {
 }
 
 /// Lights inside closed objects or glass, and the camera inside an object.
-pub(crate) fn check(renderer: &Renderer, blocks: &[Block], out: &mut Findings) {
+pub(crate) fn check(renderer: &Renderer, blocks: &[PrimitiveBlock], out: &mut Findings) {
     let scene = renderer.scene();
     let block = |b: u32| blocks.iter().find(|k| k.index == b);
     for (li, light) in scene.lights().iter().enumerate() {

@@ -3,8 +3,8 @@
 //! reader's warning: it renders with rindex 1 in the framework's dialect,
 //! as a mirror in the relatives'.)
 
-use super::blocks::{Block, name};
 use super::finding::{Code, Findings};
+use super::primitive_blocks::{PrimitiveBlock, name};
 use crate::scene::Dialect;
 use glam::DVec3;
 
@@ -12,7 +12,7 @@ use glam::DVec3;
 const ENERGY_SLACK: f64 = 1e-9;
 
 /// The material lints over every block.
-pub(crate) fn check(blocks: &[Block], out: &mut Findings) {
+pub(crate) fn check(blocks: &[PrimitiveBlock], out: &mut Findings) {
     for b in blocks {
         let m = &b.material;
         let what = name(b);

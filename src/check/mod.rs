@@ -23,12 +23,12 @@
 //! The reader's own warnings (and, when a scene cannot be read, its errors)
 //! come first, as findings of code [`Code::Format`].
 
-mod blocks;
 mod faces;
 mod finding;
 mod inside;
 mod lighting;
 mod materials;
+mod primitive_blocks;
 mod view;
 
 pub use finding::{Code, Finding, from_diagnostic};
@@ -67,7 +67,7 @@ pub fn check(renderer: &Renderer) -> CheckReport {
         file: file.clone(),
         list: scene.warnings().iter().map(from_diagnostic).collect(),
     };
-    let blocks = blocks::blocks(renderer);
+    let blocks = primitive_blocks::blocks(renderer);
     materials::check(&blocks, &mut findings);
     inside::check(renderer, &blocks, &mut findings);
     view::check(renderer, &blocks, &mut findings);

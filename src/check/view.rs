@@ -2,8 +2,8 @@
 //! bounding box against the pyramid of the lens), and a lens whose aspect
 //! is not the image's.
 
-use super::blocks::{Block, name};
 use super::finding::{Code, Findings};
+use super::primitive_blocks::{PrimitiveBlock, name};
 use crate::render::Renderer;
 use crate::scene::Camera;
 use glam::DVec3;
@@ -57,7 +57,7 @@ fn out_of_view(camera: &Camera, min: DVec3, max: DVec3) -> Option<bool> {
 }
 
 /// The view lints.
-pub(crate) fn check(renderer: &Renderer, blocks: &[Block], out: &mut Findings) {
+pub(crate) fn check(renderer: &Renderer, blocks: &[PrimitiveBlock], out: &mut Findings) {
     let camera = renderer.scene().camera();
     for b in blocks {
         let Some(bounds) = b.bounds.filter(|a| !a.is_empty()) else {

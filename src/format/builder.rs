@@ -4,12 +4,12 @@
 //! is read here.
 
 use super::assets::Assets;
-use super::block::Block;
-use super::blocks;
+use super::block_keys::BlockKeys;
+use super::detect::Evidence;
 use super::diags::{Diags, Site};
-use super::dialect::Evidence;
 use super::lexer::Word;
 use super::schema::{BlockKind, Build, PrimitiveBuild, is_known_key};
+use super::setup;
 use super::suggest::closest;
 use super::values::{Entry, Fields, parse_entry};
 use crate::scene::{Dialect, DialectChoice, Light, MaterialId, Scene};
@@ -148,7 +148,7 @@ impl<'p> Builder<'p> {
             }
             _ => {}
         }
-        let mut b = Block {
+        let mut b = BlockKeys {
             title: kind.title,
             header,
             fields,
@@ -179,8 +179,8 @@ impl<'p> Builder<'p> {
     /// A light: its kind's keys, and the colour every light has.
     fn light(
         &mut self,
-        build: fn(&mut Block<'_>) -> Option<crate::scene::LightKind>,
-        b: &mut Block<'_>,
+        build: fn(&mut BlockKeys<'_>) -> Option<crate::scene::LightKind>,
+        b: &mut BlockKeys<'_>,
     ) {
         let errors = b.diags.error_count();
         let color = match b.fields.v3("color") {
@@ -211,10 +211,10 @@ impl<'p> Builder<'p> {
 
     /// A primitive: its material, then its kind's shapes (some with
     /// materials of their own), added as block `index`.
-    fn primitive(&mut self, build: PrimitiveBuild, index: u32, b: &mut Block<'_>) {
+    fn primitive(&mut self, build: PrimitiveBuild, index: u32, b: &mut BlockKeys<'_>) {
         let errors = b.diags.error_count();
         let scene = &mut self.scene;
-        let material = blocks::material(&mut self.assets, b, &mut |t| scene.add_texture(t));
+        let material = setup::material(&mut self.assets, b, &mut |t| scene.add_texture(t));
         let built = build(&mut self.assets, b, &mut |t| scene.add_texture(t));
         if b.diags.error_count() != errors {
             return;
@@ -266,7 +266,7 @@ fn header_line(header: Site) -> u32 {
 }
 
 /// Warns at the second block of a kind that should appear once.
-fn second_block(count: u32, what: &str, b: &mut Block<'_>) {
+fn second_block(count: u32, what: &str, b: &mut BlockKeys<'_>) {
     if count == 2 {
         b.diags.warn(
             b.header,

@@ -54,7 +54,7 @@ const STORED: usize = 100_000;
 
 /// How many diagnostics and errors [`Diags`] held at some point.
 #[derive(Clone, Copy, Default)]
-pub(crate) struct Checkpoint {
+pub(crate) struct DiagCounts {
     diags: usize,
     errors: usize,
     dropped: usize,
@@ -193,8 +193,8 @@ impl Diags {
     }
 
     /// What has been recorded so far, to go back to with [`Diags::rollback`].
-    pub fn checkpoint(&self) -> Checkpoint {
-        Checkpoint {
+    pub fn counts(&self) -> DiagCounts {
+        DiagCounts {
             diags: self.out.len(),
             errors: self.errors,
             dropped: self.dropped,
@@ -203,7 +203,7 @@ impl Diags {
     }
 
     /// Forgets everything recorded since `cp`.
-    pub fn rollback(&mut self, cp: Checkpoint) {
+    pub fn rollback(&mut self, cp: DiagCounts) {
         self.out.truncate(cp.diags);
         self.when.truncate(cp.diags);
         self.errors = cp.errors;

@@ -4,20 +4,22 @@
 //! `primitive TYPE`), each closed by `end`, holding `key= values` lines; see
 //! `docs/format.md` for every key. The [`reader`] splits the text into
 //! blocks, the [`builder`] checks each against its row of the [`schema`] and
-//! builds it ([`blocks`], [`shapes`]), loading the files it names
-//! ([`assets`], [`obj`]); every problem becomes a diagnostic with its place.
+//! builds it ([`setup`] for the blocks around the primitives, [`shapes`]),
+//! loading the files it names
+//! ([`assets`], [`obj`]); every problem becomes a diagnostic with its place;
+//! [`detect`] picks the dialect from the markers the reader saw.
 
 mod assets;
-mod block;
-mod blocks;
+mod block_keys;
 mod builder;
+mod detect;
 mod diags;
-mod dialect;
 mod lexer;
 mod limits;
 mod obj;
 mod reader;
 mod schema;
+mod setup;
 mod shapes;
 mod suggest;
 mod values;

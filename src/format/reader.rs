@@ -4,7 +4,7 @@
 //! error and warning with the place in the file it is about.
 
 use super::builder::Builder;
-use super::diags::{Checkpoint, Diags, Site, When};
+use super::diags::{DiagCounts, Diags, Site, When};
 use super::lexer::{self, Line, Word};
 use super::limits::{Limits, LineGuard, ReadError, open_regular};
 use super::schema::{self, BlockKind, LIGHTS, PRIMITIVES};
@@ -163,7 +163,7 @@ struct Mark {
     line: usize,
     /// The diagnostics recorded before the header (`skipping` needs no
     /// saving: the header line clears it when read again).
-    diags: Checkpoint,
+    diags: DiagCounts,
 }
 
 /// A scene file being read, piece by piece: what lives from one piece of
@@ -278,7 +278,7 @@ impl<'p> Reader<'p> {
             mark = Mark {
                 start: line.start,
                 line: i,
-                diags: self.diags.checkpoint(),
+                diags: self.diags.counts(),
             };
             match header(i, line, &mut self.diags, &mut spare) {
                 Some(block) => {

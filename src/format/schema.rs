@@ -3,9 +3,9 @@
 //! it. A new primitive kind is one row here (and its build function).
 
 use super::assets::Assets;
-use super::block::Block;
+use super::block_keys::BlockKeys;
 use super::values::Kind::{self, Count, Num, OneOrThree, Text, Vec2, Vec3};
-use super::{blocks, shapes};
+use super::{setup, shapes};
 use crate::scene::{Background, Camera, LightKind};
 
 /// A key's name (without `=`) and the shape of its values.
@@ -114,11 +114,11 @@ const MESH_KEYS: Keys = &[
 #[derive(Clone, Copy)]
 pub(crate) enum Build {
     /// The background, over the one so far.
-    Background(fn(Background, &mut Block<'_>) -> Background),
+    Background(fn(Background, &mut BlockKeys<'_>) -> Background),
     /// The camera, over the one so far.
-    Camera(fn(Camera, &mut Block<'_>) -> Camera),
+    Camera(fn(Camera, &mut BlockKeys<'_>) -> Camera),
     /// A light's shape and position (its colour is common to every light).
-    Light(fn(&mut Block<'_>) -> Option<LightKind>),
+    Light(fn(&mut BlockKeys<'_>) -> Option<LightKind>),
     /// A primitive's shapes (its material is common to every primitive),
     /// adding the textures its own materials name.
     Primitive(PrimitiveBuild),
@@ -148,7 +148,7 @@ pub(crate) static BACKGROUND: Row = Row {
     title: "background",
     keys: BACKGROUND_KEYS,
     common: &[],
-    build: Build::Background(blocks::background),
+    build: Build::Background(setup::background),
 };
 
 /// The `camera` block.
@@ -157,7 +157,7 @@ pub(crate) static CAMERA: Row = Row {
     title: "camera",
     keys: CAMERA_KEYS,
     common: &[],
-    build: Build::Camera(blocks::camera),
+    build: Build::Camera(setup::camera),
 };
 
 /// The `light TYPE` blocks.
@@ -167,21 +167,21 @@ pub(crate) static LIGHTS: [Row; 4] = [
         title: "light point",
         keys: POINT_LIGHT_KEYS,
         common: LIGHT_COMMON_KEYS,
-        build: Build::Light(blocks::point_light),
+        build: Build::Light(setup::point_light),
     },
     Row {
         name: "square",
         title: "light square",
         keys: SQUARE_LIGHT_KEYS,
         common: LIGHT_COMMON_KEYS,
-        build: Build::Light(blocks::square_light),
+        build: Build::Light(setup::square_light),
     },
     Row {
         name: "sphere",
         title: "light sphere",
         keys: SPHERE_LIGHT_KEYS,
         common: LIGHT_COMMON_KEYS,
-        build: Build::Light(blocks::sphere_light),
+        build: Build::Light(setup::sphere_light),
     },
     // The lineages' name for the square light.
     Row {
@@ -189,13 +189,13 @@ pub(crate) static LIGHTS: [Row; 4] = [
         title: "light area",
         keys: SQUARE_LIGHT_KEYS,
         common: LIGHT_COMMON_KEYS,
-        build: Build::Light(blocks::square_light),
+        build: Build::Light(setup::square_light),
     },
 ];
 
 /// A primitive kind's build function.
 pub(crate) type PrimitiveBuild =
-    fn(&mut Assets, &mut Block<'_>, &mut shapes::AddTexture<'_>) -> shapes::Shapes;
+    fn(&mut Assets, &mut BlockKeys<'_>, &mut shapes::AddTexture<'_>) -> shapes::Shapes;
 
 /// A `primitive TYPE` row.
 const fn primitive(

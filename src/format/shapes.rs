@@ -14,7 +14,7 @@
 //! `torus`, `cylinder O= N= R= H=`, `cube O= size=`) build nothing and warn.
 
 use super::assets::Assets;
-use super::block::Block;
+use super::block_keys::BlockKeys;
 use super::diags::Site;
 use super::obj::{MtlMaterial, Placement};
 use super::values::{PARALLEL_SINE, Value, parallel, unit};
@@ -61,7 +61,7 @@ impl Built {
     }
 
     /// Nothing: a block glint skips (after warning).
-    fn skipped(b: &mut Block<'_>, what: &str) -> Shapes {
+    fn skipped(b: &mut BlockKeys<'_>, what: &str) -> Shapes {
         b.diags.warn(
             b.header,
             format!("{what}: no lineage reads this; skipped"),
@@ -72,7 +72,7 @@ impl Built {
 }
 
 /// `primitive sphere`: `O= R=`, texture directions `De= Dc=`.
-pub(crate) fn sphere(_: &mut Assets, b: &mut Block<'_>, _: &mut AddTexture<'_>) -> Shapes {
+pub(crate) fn sphere(_: &mut Assets, b: &mut BlockKeys<'_>, _: &mut AddTexture<'_>) -> Shapes {
     let (origin, textured) = (b.origin(), b.textured() || b.fields.get("NT").is_some());
     let r = b.radius("R");
     let de = b.direction("De", DVec3::Z, textured);
@@ -82,14 +82,14 @@ pub(crate) fn sphere(_: &mut Assets, b: &mut Block<'_>, _: &mut AddTexture<'_>) 
 }
 
 /// `primitive square`: `O=` and half-edge vectors `Dx= Dy=`.
-pub(crate) fn square(_: &mut Assets, b: &mut Block<'_>, _: &mut AddTexture<'_>) -> Shapes {
+pub(crate) fn square(_: &mut Assets, b: &mut BlockKeys<'_>, _: &mut AddTexture<'_>) -> Shapes {
     let origin = b.origin();
     let (dx, dy) = b.span_pair("Dx", "Dy")?;
     Built::one(Shape::Square(Box::new(Square::new(origin, dx, dy))))
 }
 
 /// `primitive cylinder`: axis `O1= O2=`, radius `R=`.
-pub(crate) fn cylinder(_: &mut Assets, b: &mut Block<'_>, _: &mut AddTexture<'_>) -> Shapes {
+pub(crate) fn cylinder(_: &mut Assets, b: &mut BlockKeys<'_>, _: &mut AddTexture<'_>) -> Shapes {
     if b.fields.get("O1").is_none() && (b.fields.get("N").is_some() || b.fields.get("H").is_some())
     {
         return Built::skipped(
@@ -104,7 +104,7 @@ pub(crate) fn cylinder(_: &mut Assets, b: &mut Block<'_>, _: &mut AddTexture<'_>
 }
 
 /// `primitive mesh`: the triangles of OBJ file `file=`, placed by `O= scale= rotation=`.
-pub(crate) fn mesh(assets: &mut Assets, b: &mut Block<'_>, _: &mut AddTexture<'_>) -> Shapes {
+pub(crate) fn mesh(assets: &mut Assets, b: &mut BlockKeys<'_>, _: &mut AddTexture<'_>) -> Shapes {
     let (name, site) = match b.fields.text("file") {
         Some((n, s)) => (n.to_string(), s),
         None => {
@@ -144,12 +144,12 @@ pub(crate) fn mesh(assets: &mut Assets, b: &mut Block<'_>, _: &mut AddTexture<'_
 }
 
 /// `primitive plane`: normal `N=`, offset `R=`, texture axes (defaults in the module docs).
-pub(crate) fn plane(_: &mut Assets, b: &mut Block<'_>, _: &mut AddTexture<'_>) -> Shapes {
+pub(crate) fn plane(_: &mut Assets, b: &mut BlockKeys<'_>, _: &mut AddTexture<'_>) -> Shapes {
     Built::one(Shape::Plane(Box::new(read_plane(b)?)))
 }
 
 /// The plane of a `plane` or `NomalPlane` block.
-fn read_plane(b: &mut Block<'_>) -> Option<Plane> {
+fn read_plane(b: &mut BlockKeys<'_>) -> Option<Plane> {
     let textured = b.textured() || b.fields.get("NT").is_some();
     let (n, site) = b.need_v3("N", "its normal")?;
     let Some(n) = unit(n) else {
@@ -172,7 +172,7 @@ fn read_plane(b: &mut Block<'_>) -> Option<Plane> {
 /// `primitive cube`: `O=`, half-lengths `x= y= z=` along `Dx=`, `Dy=` and
 /// their cross product, Dx and Dy made orthonormal (Gram–Schmidt, keeping
 /// Dx's direction) with a warning where the input was not already so.
-pub(crate) fn cube(_: &mut Assets, b: &mut Block<'_>, _: &mut AddTexture<'_>) -> Shapes {
+pub(crate) fn cube(_: &mut Assets, b: &mut BlockKeys<'_>, _: &mut AddTexture<'_>) -> Shapes {
     if b.fields.get("size").is_some() {
         return Built::skipped(b, "a `primitive cube` with `size=` (F's scene4)");
     }
@@ -230,7 +230,7 @@ pub(crate) fn cube(_: &mut Assets, b: &mut Block<'_>, _: &mut AddTexture<'_>) ->
 
 /// `primitive bezier`: a surface of revolution about `O1= O2=`, profile
 /// `P= z r` (at least two control points).
-pub(crate) fn bezier(_: &mut Assets, b: &mut Block<'_>, _: &mut AddTexture<'_>) -> Shapes {
+pub(crate) fn bezier(_: &mut Assets, b: &mut BlockKeys<'_>, _: &mut AddTexture<'_>) -> Shapes {
     if b.fields.get("newPoint").is_some() && b.fields.get("P").is_none() {
         return Built::skipped(
             b,
@@ -283,7 +283,7 @@ pub(crate) fn bezier(_: &mut Assets, b: &mut Block<'_>, _: &mut AddTexture<'_>) 
 }
 
 /// `primitive triangle`: corners `O1= O2= O3=`, not collinear.
-pub(crate) fn triangle(_: &mut Assets, b: &mut Block<'_>, _: &mut AddTexture<'_>) -> Shapes {
+pub(crate) fn triangle(_: &mut Assets, b: &mut BlockKeys<'_>, _: &mut AddTexture<'_>) -> Shapes {
     let p0 = b.need_v3("O1", "the first corner");
     let p1 = b.need_v3("O2", "the second corner");
     let p2 = b.need_v3("O3", "the third corner");
@@ -306,7 +306,7 @@ pub(crate) fn triangle(_: &mut Assets, b: &mut Block<'_>, _: &mut AddTexture<'_>
 /// `primitive rectangle` (Z14, Z17, P): the plane `N= R=` where both
 /// texture coordinates of `Dx= Dy=` (measured from the world origin) lie in
 /// [0, 1]; N, Dx and Dy must be independent.
-pub(crate) fn rectangle(_: &mut Assets, b: &mut Block<'_>, _: &mut AddTexture<'_>) -> Shapes {
+pub(crate) fn rectangle(_: &mut Assets, b: &mut BlockKeys<'_>, _: &mut AddTexture<'_>) -> Shapes {
     let n = b.need_v3("N", "its normal");
     let dx = b.need_v3("Dx", "an edge vector");
     let dy = b.need_v3("Dy", "an edge vector");
@@ -329,7 +329,7 @@ pub(crate) fn rectangle(_: &mut Assets, b: &mut Block<'_>, _: &mut AddTexture<'_
 }
 
 /// Warns that a V normal-map block without `NT=` draws its plain shape.
-fn plain_without_normal_map(b: &mut Block<'_>, plain: &str) {
+fn plain_without_normal_map(b: &mut BlockKeys<'_>, plain: &str) {
     if b.fields.get("NT").is_none() && !b.fields.failed("NT") {
         b.diags.warn(
             b.header,
@@ -344,13 +344,13 @@ fn plain_without_normal_map(b: &mut Block<'_>, plain: &str) {
 
 /// `primitive NomalBall` (V): a sphere (`O= R= De= Dc=`) with the normal map
 /// `NT=` (a material key, read with the others).
-pub(crate) fn nomal_ball(a: &mut Assets, b: &mut Block<'_>, t: &mut AddTexture<'_>) -> Shapes {
+pub(crate) fn nomal_ball(a: &mut Assets, b: &mut BlockKeys<'_>, t: &mut AddTexture<'_>) -> Shapes {
     plain_without_normal_map(b, "sphere");
     sphere(a, b, t)
 }
 
 /// `primitive NomalPlane` (V): a plane (`N= R= Dx= Dy=`) with the normal map `NT=`.
-pub(crate) fn nomal_plane(a: &mut Assets, b: &mut Block<'_>, t: &mut AddTexture<'_>) -> Shapes {
+pub(crate) fn nomal_plane(a: &mut Assets, b: &mut BlockKeys<'_>, t: &mut AddTexture<'_>) -> Shapes {
     plain_without_normal_map(b, "plane");
     plane(a, b, t)
 }
@@ -371,7 +371,11 @@ const V_PROFILE: [(f64, f64); 7] = [
 /// `bezier` surface with O1 = O + 38·ratio·ẑ, O2 = O and control points
 /// (ratio·y, R + ratio·x); open; its texture angle runs counter-clockwise
 /// about +z from +x, as V's does.
-pub(crate) fn lineage_bezier(_: &mut Assets, b: &mut Block<'_>, _: &mut AddTexture<'_>) -> Shapes {
+pub(crate) fn lineage_bezier(
+    _: &mut Assets,
+    b: &mut BlockKeys<'_>,
+    _: &mut AddTexture<'_>,
+) -> Shapes {
     let origin = b.origin();
     let r = b.need_num("R", "the radius added to the profile");
     let ratio = b.need_num("ratio", "the profile's scale");
@@ -391,7 +395,7 @@ pub(crate) fn lineage_bezier(_: &mut Assets, b: &mut Block<'_>, _: &mut AddTextu
 }
 
 /// `primitive torus` (F's scene4): no lineage reads it; skipped.
-pub(crate) fn torus(_: &mut Assets, b: &mut Block<'_>, _: &mut AddTexture<'_>) -> Shapes {
+pub(crate) fn torus(_: &mut Assets, b: &mut BlockKeys<'_>, _: &mut AddTexture<'_>) -> Shapes {
     Built::skipped(b, "a `primitive torus` (F's scene4)")
 }
 
@@ -401,7 +405,7 @@ pub(crate) fn torus(_: &mut Assets, b: &mut Block<'_>, _: &mut AddTexture<'_>) -
 /// after a `usemtl` get that MTL material instead of the block's.
 pub(crate) fn polyhedron(
     assets: &mut Assets,
-    b: &mut Block<'_>,
+    b: &mut BlockKeys<'_>,
     add_texture: &mut AddTexture<'_>,
 ) -> Shapes {
     let (name, site) = match b.fields.text("mesh") {
@@ -474,7 +478,7 @@ pub(crate) fn polyhedron(
 fn mtl_material(
     m: &MtlMaterial,
     assets: &mut Assets,
-    b: &mut Block<'_>,
+    b: &mut BlockKeys<'_>,
     site: Site,
     add_texture: &mut AddTexture<'_>,
 ) -> Option<Material> {

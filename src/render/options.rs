@@ -9,7 +9,7 @@ use std::sync::atomic::AtomicBool;
 /// How to render.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct RenderOptions {
-    /// Worker threads, at most [`MAX_THREADS`] (`None`, or a pool the
+    /// Worker threads, at most [`MAX_THREADS`](super::MAX_THREADS) (`None`, or a pool the
     /// system refuses to start: one per core). The image is the same either way.
     pub threads: Option<usize>,
     /// Seed of every random stream.

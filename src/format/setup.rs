@@ -10,7 +10,7 @@
 //!   kept as written for the lineages' total internal reflection.
 
 use super::assets::Assets;
-use super::block::Block;
+use super::block_keys::BlockKeys;
 use super::diags::When;
 use super::suggest::closest;
 use super::values::{Value, unit};
@@ -27,7 +27,7 @@ pub(crate) const MAX_QUALITY: u32 = 1024;
 
 /// `background`: `color=`, or a gradient `top=` / `bottom=`, over `bg`
 /// (a second block's keys override the first's).
-pub(crate) fn background(mut bg: Background, b: &mut Block<'_>) -> Background {
+pub(crate) fn background(mut bg: Background, b: &mut BlockKeys<'_>) -> Background {
     for f in &b.fields.list {
         let Value::V3(c) = f.value else { continue };
         bg = match (f.name, bg) {
@@ -50,7 +50,7 @@ pub(crate) fn background(mut bg: Background, b: &mut Block<'_>) -> Background {
 
 /// `camera`: the eye, the lens, the image size and the quality keys, over
 /// `cam` (a second block's keys override the first's).
-pub(crate) fn camera(mut cam: Camera, b: &mut Block<'_>) -> Camera {
+pub(crate) fn camera(mut cam: Camera, b: &mut BlockKeys<'_>) -> Camera {
     if let Some((o, _)) = b.fields.v3("O") {
         cam.origin = o;
     }
@@ -201,12 +201,12 @@ pub(crate) fn camera(mut cam: Camera, b: &mut Block<'_>) -> Camera {
 }
 
 /// `light point`: `O=`.
-pub(crate) fn point_light(b: &mut Block<'_>) -> Option<LightKind> {
+pub(crate) fn point_light(b: &mut BlockKeys<'_>) -> Option<LightKind> {
     Some(LightKind::Point { pos: b.origin() })
 }
 
 /// `light square` (`light area`): centre `O=`, half-edge vectors `Dx= Dy=`.
-pub(crate) fn square_light(b: &mut Block<'_>) -> Option<LightKind> {
+pub(crate) fn square_light(b: &mut BlockKeys<'_>) -> Option<LightKind> {
     b.diags.warn_when(
         When::In(Dialect::W),
         b.header,
@@ -220,7 +220,7 @@ pub(crate) fn square_light(b: &mut Block<'_>) -> Option<LightKind> {
 }
 
 /// `light sphere`: centre `O=`, radius `R=`.
-pub(crate) fn sphere_light(b: &mut Block<'_>) -> Option<LightKind> {
+pub(crate) fn sphere_light(b: &mut BlockKeys<'_>) -> Option<LightKind> {
     let center = b.origin();
     let radius = b.radius("R")?;
     Some(LightKind::Sphere { center, radius })
@@ -230,7 +230,7 @@ pub(crate) fn sphere_light(b: &mut Block<'_>) -> Option<LightKind> {
 /// `assets`, a new one handed to `add_texture`).
 pub(crate) fn material(
     assets: &mut Assets,
-    b: &mut Block<'_>,
+    b: &mut BlockKeys<'_>,
     add_texture: &mut dyn FnMut(Texture) -> u32,
 ) -> Option<Material> {
     let f = &b.fields;

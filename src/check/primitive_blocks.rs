@@ -6,7 +6,7 @@ use crate::scene::Material;
 
 /// A primitive block as the lints see it: its kind, material, the objects
 /// it made and their bounds.
-pub(crate) struct Block {
+pub(crate) struct PrimitiveBlock {
     /// 0-based index in file order.
     pub index: u32,
     /// The kind's name (`sphere`...).
@@ -20,14 +20,14 @@ pub(crate) struct Block {
 }
 
 /// The primitive blocks of `renderer`'s scene that made a surface, in file order.
-pub(crate) fn blocks(renderer: &Renderer) -> Vec<Block> {
+pub(crate) fn blocks(renderer: &Renderer) -> Vec<PrimitiveBlock> {
     let scene = renderer.scene();
-    let mut out: Vec<Block> = Vec::new();
+    let mut out: Vec<PrimitiveBlock> = Vec::new();
     let mut at = std::collections::HashMap::new();
     for (i, o) in renderer.accel().objects().iter().enumerate() {
         let Some(b) = o.block() else { continue };
         let k = *at.entry(b).or_insert_with(|| {
-            out.push(Block {
+            out.push(PrimitiveBlock {
                 index: b,
                 kind: o.shape().kind_name(),
                 material: scene.material_of(o),
@@ -48,6 +48,6 @@ pub(crate) fn blocks(renderer: &Renderer) -> Vec<Block> {
 }
 
 /// `kind #index`, as findings name a block.
-pub(crate) fn name(block: &Block) -> String {
+pub(crate) fn name(block: &PrimitiveBlock) -> String {
     format!("{} #{}", block.kind, block.index)
 }

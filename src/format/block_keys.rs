@@ -6,7 +6,7 @@ use super::values::{Fields, parallel, unit};
 use glam::DVec3;
 
 /// One block being built: its header, parsed keys, and the diagnostics.
-pub(crate) struct Block<'d> {
+pub(crate) struct BlockKeys<'d> {
     /// The header as written (`primitive sphere`), for messages.
     pub title: &'static str,
     /// Where the header is.
@@ -17,7 +17,7 @@ pub(crate) struct Block<'d> {
     pub diags: &'d mut Diags,
 }
 
-impl Block<'_> {
+impl BlockKeys<'_> {
     /// `O=`, or the origin when absent.
     pub fn origin(&self) -> DVec3 {
         self.fields.v3("O").map_or(DVec3::ZERO, |(v, _)| v)
