@@ -27,8 +27,6 @@ mod values;
 #[cfg(feature = "fuzzing")]
 pub(crate) use assets::decode_texture_bytes;
 pub(crate) use limits::{Limits, read_bounded};
-#[cfg(test)]
-pub(crate) use obj::load_obj;
 #[cfg(feature = "fuzzing")]
 pub(crate) use obj::parse_obj;
 #[cfg(any(test, feature = "fuzzing"))]

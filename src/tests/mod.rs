@@ -8,7 +8,8 @@ pub(crate) mod common;
 
 mod accel;
 mod bezier;
-mod geometry;
+/// The geometry suite, one file per shape; its helpers serve the OBJ reader's tests too.
+pub(crate) mod geometry;
 mod lights;
 mod lineages;
 mod parser;

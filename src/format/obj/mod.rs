@@ -434,3 +434,6 @@ fn first_failing_line(bytes: &[u8], fails: impl Fn(&[u8]) -> bool) -> usize {
     }
     hi.max(1)
 }
+
+#[cfg(test)]
+mod tests;
