@@ -183,7 +183,7 @@ pub use probe::{
     MAX_RAY_ERRORS, ProbeHit, RayError, RaysError, parse_ray, read_rays, to_json, to_text,
 };
 pub use render::{
-    Aov, Checkpoint, Control, Explanation, Film, HitPointTerm, LIGHT_PASSES_MAX, MAX_EXPLAINED_SPP,
+    Aov, Checkpoint, Control, Explanation, Film, HitPointTerm, LIGHT_AOVS_MAX, MAX_EXPLAINED_SPP,
     MAX_THREADS, PhotonStats, Plane, ProgressiveTerm, Region, RenderError, RenderOptions,
     RenderStats, Renderer, Sampling, Stage, WorkEstimate,
 };

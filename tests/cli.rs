@@ -1010,7 +1010,7 @@ fn check_exit_codes_text_and_json() {
 /// `--aov light:0,shade,why,clamp` writes OUT.light-0.png ... and the why
 /// legend; a bad `light:` is an argument error naming it, nothing written.
 #[test]
-fn shading_passes_are_written_with_the_why_legend() {
+fn shading_aovs_are_written_with_the_why_legend() {
     let dir = scratch("shading-passes");
     let scene = write(&dir, "s.txt", SMALL);
     let out = dir.join("shot.png");

@@ -1,11 +1,11 @@
-//! Passes (AOVs): what the centre sample of each pixel meets, stored as
+//! AOVs (arbitrary output values): what the centre sample of each pixel meets, stored as
 //! named planes of the film beside the picture: its first hit's surface
-//! and shading, tallied by pass 1 itself (`shading_passes`), and the rays
+//! and shading, tallied by pass 1 itself (`shading_aovs`), and the rays
 //! and BVH work the render counts as it traces.
 
 use crate::scene::{Material, Scene};
 
-/// A pass a render can write beside its picture.
+/// An AOV (arbitrary output value): a layer a render can write beside its picture.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Aov {
     /// The first hit's unit geometric normal, turned against the ray (x, y, z).
@@ -46,7 +46,7 @@ pub enum Aov {
 }
 
 impl Aov {
-    /// Every pass, in the order they are documented (`light:N` as light 0).
+    /// Every AOV, in the order they are documented (`light:N` as light 0).
     pub const ALL: [Aov; 13] = [
         Aov::Normal,
         Aov::Depth,
@@ -115,7 +115,7 @@ impl Aov {
         matches!(self, Aov::Rays | Aov::Cost)
     }
 
-    /// A comma-separated list of pass names (repeats kept once).
+    /// A comma-separated list of AOV names (repeats kept once).
     pub fn parse_list(list: &str) -> Result<Vec<Aov>, String> {
         let mut out = Vec::new();
         for word in list.split(',').map(str::trim) {
@@ -137,7 +137,7 @@ impl Aov {
                                 _ => a.name(),
                             })
                             .collect();
-                        format!("unknown pass `{word}`; the passes are {}", names.join(", "))
+                        format!("unknown AOV `{word}`; the AOVs are {}", names.join(", "))
                     })?,
             };
             if !out.contains(&aov) {

@@ -6,7 +6,7 @@ use super::film::Region;
 use super::frame::{BAND, Frame, Tile};
 use super::observe::{Kept, ObservedJob, Watched, with_observer};
 use super::progress::Progress;
-use super::shading_passes::LightTally;
+use super::shading_aovs::LightTally;
 use crate::accel::QueryCost;
 use crate::integrator::{RayCounts, ShadowHints};
 use glam::DVec3;

@@ -5,7 +5,7 @@
 use super::aov::Aov;
 use super::film::Region;
 use super::frame::BAND;
-use super::shading_passes::ShadingPasses;
+use super::shading_aovs::ShadingAovs;
 use crate::accel::QueryCost;
 use crate::integrator::RayCounts;
 use rayon::prelude::*;
@@ -16,7 +16,7 @@ pub(crate) struct Keep<'a> {
     /// The rays traced for each pixel.
     pub rays: bool,
     /// The shading AOVs' values.
-    pub shading: Option<&'a ShadingPasses<'a>>,
+    pub shading: Option<&'a ShadingAovs<'a>>,
     /// The queries each pixel's samples made.
     pub cost: bool,
 }

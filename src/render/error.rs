@@ -48,10 +48,10 @@ pub enum RenderError {
         /// The most `explain` takes.
         max: u32,
     },
-    /// More `light:N` passes than one render takes.
-    #[error("{asked} light:N passes asked for: one render takes at most {max}")]
-    LightPasses {
-        /// The `light:N` passes asked for.
+    /// More `light:N` AOVs than one render takes.
+    #[error("{asked} light:N AOVs asked for: one render takes at most {max}")]
+    LightAovs {
+        /// The `light:N` AOVs asked for.
         asked: usize,
         /// The most one render takes.
         max: usize,

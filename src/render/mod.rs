@@ -9,7 +9,7 @@
 //! (`camera`), the frame of samples (`frame`), the anti-aliasing's passes over
 //! bands, one file a layer (`region` runs them: `buffers`, pass 1 over a
 //! band in `band`, pass 2 in `refine`, the observer picked in `observe`,
-//! `progress`), the shading layers (`shading_passes`), PPM's and SPPM's
+//! `progress`), the shading layers (`shading_aovs`), PPM's and SPPM's
 //! iterations (`photons`), the film (`film`, `aov`), the memory bound
 //! (`memory`), threads (`schedule`), `explain` and the verdict's rules it
 //! shares with the `why` layer (`verdict`).
@@ -32,7 +32,7 @@ mod refine;
 mod region;
 mod renderer;
 mod schedule;
-mod shading_passes;
+mod shading_aovs;
 mod stats;
 mod verdict;
 
@@ -47,6 +47,6 @@ pub use options::{Checkpoint, Control, RenderOptions, Stage};
 pub use photons::PhotonStats;
 pub use renderer::Renderer;
 pub use schedule::MAX_THREADS;
-pub use shading_passes::LIGHT_PASSES_MAX;
+pub use shading_aovs::LIGHT_AOVS_MAX;
 pub use stats::RenderStats;
 pub(crate) use verdict::{Cause, place};

@@ -3,7 +3,7 @@
 //! or nothing, each choice its own monomorphised loop (watching nothing
 //! costs nothing).
 
-use super::shading_passes::LightTally;
+use super::shading_aovs::LightTally;
 use crate::accel::QueryCost;
 use crate::integrator::{AaHash, NoObserver, PathObserver};
 

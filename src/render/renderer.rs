@@ -8,7 +8,7 @@ use super::film::{Film, Region};
 use super::frame::Frame;
 use super::progress::Watch;
 use super::region::render_region;
-use super::shading_passes::{LIGHT_PASSES_MAX, ShadingPasses};
+use super::shading_aovs::{LIGHT_AOVS_MAX, ShadingAovs};
 use super::{Control, PhotonStats, RenderError, RenderOptions, RenderStats, Stage};
 use super::{memory, photons, schedule};
 use crate::image::Image;
@@ -117,10 +117,10 @@ impl Renderer {
             cancel: control.cancel,
         };
         let count = options.aovs.contains(&Aov::Rays);
-        let shading = ShadingPasses::of(&options.aovs, &self.scene).map_err(|asked| {
-            RenderError::LightPasses {
+        let shading = ShadingAovs::of(&options.aovs, &self.scene).map_err(|asked| {
+            RenderError::LightAovs {
                 asked,
-                max: LIGHT_PASSES_MAX,
+                max: LIGHT_AOVS_MAX,
             }
         })?;
         let mut photon_term = None;

@@ -1,4 +1,4 @@
-//! The passes of the camera hit: its surface (`normal`, `depth`,
+//! The AOVs of the camera hit: its surface (`normal`, `depth`,
 //! `position`, `uv`, `primitive`, `albedo`) and its shading (`light:N`,
 //! `shade`, `why`, `clamp`, `photons`), tallied by a small observer
 //! ([`LightTally`], no allocation) as pass 1 traces each pixel's centre
@@ -15,16 +15,16 @@ use crate::integrator::{LightSeen, NoObserver, PathObserver, RayKind, SurfaceSee
 use crate::scene::{Material, Origin, Scene};
 use glam::{DVec2, DVec3};
 
-/// `light:N` passes one render takes at most (the tally keeps their terms inline).
-pub const LIGHT_PASSES_MAX: usize = 8;
+/// `light:N` AOVs one render takes at most (the tally keeps their terms inline).
+pub const LIGHT_AOVS_MAX: usize = 8;
 
 /// What the camera ray of one sample met, and its shading there: what the
-/// shading passes show. Only the camera ray's own hit is tallied (the rays
+/// shading AOVs show. Only the camera ray's own hit is tallied (the rays
 /// it spawns are not).
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct LightTally {
-    /// The lights whose terms are kept (the `light:N` passes asked for).
-    wanted: [u32; LIGHT_PASSES_MAX],
+    /// The lights whose terms are kept (the `light:N` AOVs asked for).
+    wanted: [u32; LIGHT_AOVS_MAX],
     /// How many of `wanted` are in use.
     wanted_len: usize,
     /// Rays begun and not yet done (the camera ray alone: 1).
@@ -37,7 +37,7 @@ pub(crate) struct LightTally {
     /// kept and the material is textured: what the albedo needs).
     uv: DVec2,
     /// Each wanted light's diffuse + specular weight (`None`: not computed).
-    terms: [Option<f64>; LIGHT_PASSES_MAX],
+    terms: [Option<f64>; LIGHT_AOVS_MAX],
     /// The lights counted as the verdict counts them.
     lights: LightCounts,
     /// The sum and the smallest of the shade factors of the lights faced.
@@ -47,15 +47,15 @@ pub(crate) struct LightTally {
     unclamped: Option<DVec3>,
     /// The photon term at the camera ray's hit (PM).
     photons: DVec3,
-    /// Whether a pass of the hit's surface is wanted (normal, depth...).
+    /// Whether an AOV of the hit's surface is wanted (normal, depth...).
     geometry: bool,
     /// The block or light the camera ray hit.
     origin: Option<Origin>,
-    /// The camera ray's hit, where a pass of its surface is wanted.
+    /// The camera ray's hit, where an AOV of its surface is wanted.
     surface: Option<FirstSurface>,
 }
 
-/// The camera ray's hit, as the passes of its surface show it.
+/// The camera ray's hit, as the AOVs of its surface show it.
 #[derive(Clone, Copy, Debug)]
 struct FirstSurface {
     /// The distance along the ray.
@@ -86,9 +86,9 @@ impl FirstSurface {
 
 impl LightTally {
     /// A tally keeping the terms of `lights` (and the hit's surface when
-    /// `geometry`); `Err(their number)` past [`LIGHT_PASSES_MAX`].
+    /// `geometry`); `Err(their number)` past [`LIGHT_AOVS_MAX`].
     fn new(lights: &[u32], geometry: bool) -> Result<Self, usize> {
-        if lights.len() > LIGHT_PASSES_MAX {
+        if lights.len() > LIGHT_AOVS_MAX {
             return Err(lights.len());
         }
         let mut tally = LightTally {
@@ -205,16 +205,16 @@ impl PathObserver for LightTally {
     }
 }
 
-/// The shading passes a render was asked for, and the tally that gathers them.
-pub(crate) struct ShadingPasses<'a> {
+/// The shading AOVs a render was asked for, and the tally that gathers them.
+pub(crate) struct ShadingAovs<'a> {
     aovs: Vec<Aov>,
     scene: &'a Scene,
     fresh: LightTally,
 }
 
-impl<'a> ShadingPasses<'a> {
-    /// The shading passes of `aovs` over `scene` (`None` when there are
-    /// none); `Err(their number)` for more `light:N` than [`LIGHT_PASSES_MAX`].
+impl<'a> ShadingAovs<'a> {
+    /// The shading AOVs of `aovs` over `scene` (`None` when there are
+    /// none); `Err(their number)` for more `light:N` than [`LIGHT_AOVS_MAX`].
     pub fn of(aovs: &[Aov], scene: &'a Scene) -> Result<Option<Self>, usize> {
         let aovs: Vec<Aov> = aovs.iter().copied().filter(|a| a.shaded()).collect();
         if aovs.is_empty() {
@@ -229,10 +229,10 @@ impl<'a> ShadingPasses<'a> {
             .collect();
         let geometry = aovs.iter().any(|a| a.of_surface());
         let fresh = LightTally::new(&lights, geometry)?;
-        Ok(Some(ShadingPasses { aovs, scene, fresh }))
+        Ok(Some(ShadingAovs { aovs, scene, fresh }))
     }
 
-    /// The passes, in the order asked for.
+    /// The AOVs, in the order asked for.
     pub fn aovs(&self) -> &[Aov] {
         &self.aovs
     }
@@ -242,8 +242,8 @@ impl<'a> ShadingPasses<'a> {
         &self.fresh
     }
 
-    /// Pixel `i`'s values of the passes, from its centre sample's tally
-    /// `t`, into `planes` (one a pass, in the order of [`Self::aovs`]).
+    /// Pixel `i`'s values of the AOVs, from its centre sample's tally
+    /// `t`, into `planes` (one an AOV, in the order of [`Self::aovs`]).
     pub fn fill(&self, planes: &mut [&mut [f32]], i: usize, t: &LightTally) {
         for (plane, &aov) in planes.iter_mut().zip(&self.aovs) {
             let c = aov.channels();

@@ -502,7 +502,7 @@ fn more_light_passes_than_one_render_takes_are_an_error() {
         aovs: (0..n).map(Aov::Light).collect(),
         ..RenderOptions::default()
     };
-    let max = glint::LIGHT_PASSES_MAX as u32;
+    let max = glint::LIGHT_AOVS_MAX as u32;
     let f = r.render(&asking(max)).unwrap_or_else(|e| panic!("{e}"));
     // Lights the scene lacks are black planes.
     assert!(
@@ -511,7 +511,7 @@ fn more_light_passes_than_one_render_takes_are_an_error() {
     );
     assert_eq!(
         r.render(&asking(max + 1)).err(),
-        Some(glint::RenderError::LightPasses {
+        Some(glint::RenderError::LightAovs {
             asked: max as usize + 1,
             max: max as usize
         })
