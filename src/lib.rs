@@ -183,9 +183,9 @@ pub use probe::{
     MAX_RAY_ERRORS, ProbeHit, RayError, RaysError, parse_ray, read_rays, to_json, to_text,
 };
 pub use render::{
-    Aov, Checkpoint, Control, Explanation, Film, HitPointTerm, LIGHT_AOVS_MAX, MAX_EXPLAINED_SPP,
-    MAX_THREADS, PhotonStats, Plane, ProgressiveTerm, Region, RenderError, RenderOptions,
-    RenderStats, Renderer, Sampling, Stage, WorkEstimate,
+    Aov, CameraKey, Checkpoint, Control, Driver, Explanation, Film, HitPointTerm, LIGHT_AOVS_MAX,
+    MAX_EXPLAINED_SPP, MAX_THREADS, PhotonStats, Plane, ProgressiveTerm, Region, RenderError,
+    RenderOptions, RenderStats, Renderer, Sampling, Stage, WorkEstimate,
 };
 pub use scene::{Dialect, DialectChoice, Scene, SceneError};
 

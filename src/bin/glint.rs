@@ -757,7 +757,11 @@ fn warn_if_slow(renderer: &Renderer, options: &RenderOptions, scene: &Path) -> R
             scene.display(),
             work.rays as f64,
             duration(work.rays as f64 / 1e7),
-            work.drivers.join(", ")
+            work.drivers
+                .iter()
+                .map(|d| d.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
         ));
     }
     Ok(())

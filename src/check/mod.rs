@@ -33,7 +33,7 @@ mod view;
 
 pub use finding::{Code, Finding, from_diagnostic};
 
-use crate::render::{RenderOptions, Renderer};
+use crate::render::{Driver, RenderOptions, Renderer};
 use crate::scene::{Diagnostic, DialectChoice, Severity};
 use finding::Findings;
 use serde_json::{Value, json};
@@ -49,7 +49,7 @@ pub struct CheckReport {
     /// Rays a default render traces (about), `None` when the scene could not be read.
     pub rays: Option<u64>,
     /// What drives that count (image size, qualities).
-    pub drivers: Vec<String>,
+    pub drivers: Vec<Driver>,
     /// The dialect the file is read in and why, `None` when it could not be read.
     pub dialect: Option<DialectChoice>,
 }
@@ -133,7 +133,7 @@ impl CheckReport {
                 "estimate: about {:.1e} rays, {} at 10 Mrays/s ({})",
                 rays as f64,
                 seconds(rays as f64 / ESTIMATE_RAYS_PER_SECOND),
-                self.drivers.join(", ")
+                joined(&self.drivers)
             );
         }
         let (e, w) = (self.errors(), self.warnings());
@@ -164,7 +164,7 @@ impl CheckReport {
             json!({
                 "rays": rays,
                 "seconds": rays as f64 / ESTIMATE_RAYS_PER_SECOND,
-                "drivers": self.drivers,
+                "drivers": self.drivers.iter().map(Driver::to_string).collect::<Vec<_>>(),
             })
         });
         let dialect = self.dialect.as_ref().map(|d| {
@@ -183,6 +183,12 @@ impl CheckReport {
             "estimate": estimate,
         })
     }
+}
+
+/// The drivers as the estimate's line lists them.
+fn joined(drivers: &[Driver]) -> String {
+    let texts: Vec<String> = drivers.iter().map(Driver::to_string).collect();
+    texts.join(", ")
 }
 
 /// Seconds as people say them.

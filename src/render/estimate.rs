@@ -4,10 +4,14 @@
 use super::{RenderError, RenderOptions, Renderer};
 use crate::integrator::photons::{PhotonMode, Plan};
 use crate::scene::LightKind;
+use std::fmt;
 
 /// Camera rays a pixel takes on average under the adaptive anti-aliasing
 /// (one, and 49 more for the few pixels on edges), for [`WorkEstimate`].
 const ADAPTIVE_RAYS_PER_PIXEL: u64 = 2;
+
+/// Area lights named by their header's place, at most.
+const AREA_LIGHTS_SHOWN: usize = 3;
 
 /// What [`Renderer::estimate`] expects a render to cost.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -15,7 +19,128 @@ pub struct WorkEstimate {
     /// Rays, roughly (within a few times either way).
     pub rays: u64,
     /// The settings that drive the count: image size, samples, qualities.
-    pub drivers: Vec<String>,
+    pub drivers: Vec<Driver>,
+}
+
+/// A camera key that drives a render's cost: its name, its value and,
+/// when the scene was read from a file, where (`scene.txt:12`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct CameraKey {
+    /// The key's name (`shade_quality`).
+    pub name: &'static str,
+    /// Its value, as written back.
+    pub value: String,
+    /// `FILE:LINE` of the key, when the file sets it.
+    pub at: Option<String>,
+}
+
+/// A setting that drives a render's cost; shown as the estimate's warning says it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Driver {
+    /// The image size, and the camera keys that set it (none when overridden).
+    Size {
+        /// Width in pixels.
+        width: u32,
+        /// Height in pixels.
+        height: u32,
+        /// `image_W=` and `image_H=`, where the file sets them.
+        keys: Vec<CameraKey>,
+    },
+    /// `--spp N` samples a pixel.
+    Samples(u32),
+    /// Area lights, each taking `shadow_rays` a shading point.
+    AreaLights {
+        /// `shade_quality=`.
+        quality: CameraKey,
+        /// How many.
+        count: u64,
+        /// The first few headers' places, then how many more.
+        at: Vec<String>,
+        /// Shadow rays a point, for each.
+        shadow_rays: u64,
+    },
+    /// Glossy reflections, each `rays` rays.
+    Glossy {
+        /// `drefl_quality=`.
+        quality: CameraKey,
+        /// Rays a glossy reflection.
+        rays: u64,
+    },
+    /// Photon passes.
+    Photons {
+        /// The algorithm.
+        mode: PhotonMode,
+        /// Photons emitted a pass.
+        emit: u64,
+        /// Passes (PPM's and SPPM's iterations).
+        passes: u64,
+        /// The keys that set them, where the file does.
+        keys: Vec<CameraKey>,
+    },
+}
+
+impl fmt::Display for CameraKey {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if let Some(at) = &self.at {
+            write!(f, "{at} ")?;
+        }
+        write!(f, "`{}={}`", self.name, self.value)
+    }
+}
+
+/// ` (a, b, c)`, or nothing when `items` is empty.
+fn listed(f: &mut fmt::Formatter<'_>, items: &[impl fmt::Display]) -> fmt::Result {
+    for (i, item) in items.iter().enumerate() {
+        let lead = if i == 0 { " (" } else { ", " };
+        write!(f, "{lead}{item}")?;
+    }
+    if items.is_empty() {
+        Ok(())
+    } else {
+        write!(f, ")")
+    }
+}
+
+impl fmt::Display for Driver {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Driver::Size {
+                width,
+                height,
+                keys,
+            } => {
+                write!(f, "{width}x{height} pixels")?;
+                listed(f, keys)
+            }
+            Driver::Samples(n) => write!(f, "--spp {n}"),
+            Driver::AreaLights {
+                quality,
+                count,
+                at,
+                shadow_rays,
+            } => {
+                write!(f, "{quality} with {count} area light(s)")?;
+                listed(f, at)?;
+                write!(f, ": {shadow_rays} shadow rays each a point")
+            }
+            Driver::Glossy { quality, rays } => {
+                write!(f, "{quality}: {rays} rays a glossy reflection")
+            }
+            Driver::Photons {
+                mode,
+                emit,
+                passes,
+                keys,
+            } => {
+                write!(
+                    f,
+                    "photons {}: {emit} a pass, {passes} pass(es)",
+                    mode.name()
+                )?;
+                listed(f, keys)
+            }
+        }
+    }
 }
 
 impl Renderer {
@@ -26,42 +151,40 @@ impl Renderer {
         let (w, h) = self.frame_size(options)?;
         let cam = self.scene.camera();
         let pixels = self.pixels(options)?;
-        // Each driving key with its place, `scene.txt:12 `shade_quality=64``,
-        // when the scene was read from text.
+        // Each driving key with its place when the scene was read from text.
         let file = self.scene.path().map_or_else(
             || "<input>".to_string(),
             |p| crate::scene::escaped(&p.display().to_string()).into_owned(),
         );
         let place = |line: Option<u32>| line.map(|l| format!("{file}:{l}"));
-        let key = |name: &str, value: &dyn std::fmt::Display| match place(
-            self.scene.camera_key_line(name),
-        ) {
-            Some(at) => format!("{at} `{name}={value}`"),
-            None => format!("`{name}={value}`"),
+        let key = |name: &'static str, value: &dyn fmt::Display| CameraKey {
+            name,
+            value: value.to_string(),
+            at: place(self.scene.camera_key_line(name)),
         };
-        let file_key = |name: &str, value: &dyn std::fmt::Display| {
-            self.scene
-                .camera_key_line(name)
-                .is_some()
-                .then(|| key(name, value))
+        // The key, only where the file sets it.
+        let file_key = |name: &'static str, value: &dyn fmt::Display| {
+            Some(key(name, value)).filter(|k| k.at.is_some())
         };
-        let mut size = format!("{w}x{h} pixels");
-        if options.width.is_none() && options.height.is_none() {
-            let keys: Vec<String> = [
+        let keys = if options.width.is_none() && options.height.is_none() {
+            [
                 file_key("image_W", &cam.width),
                 file_key("image_H", &cam.height),
             ]
             .into_iter()
             .flatten()
-            .collect();
-            if !keys.is_empty() {
-                size = format!("{size} ({})", keys.join(", "));
-            }
-        }
-        let mut drivers = vec![size];
+            .collect()
+        } else {
+            Vec::new()
+        };
+        let mut drivers = vec![Driver::Size {
+            width: w,
+            height: h,
+            keys,
+        }];
         let samples = match options.spp {
             Some(n) => {
-                drivers.push(format!("--spp {n}"));
+                drivers.push(Driver::Samples(n));
                 u64::from(n)
             }
             None => ADAPTIVE_RAYS_PER_PIXEL,
@@ -76,34 +199,30 @@ impl Renderer {
         let shadow = (lights.len() as u64 - area) + area * per_area;
         if area > 0 {
             // The area lights' headers too (the first few).
-            const SHOWN: usize = 3;
             let mut at: Vec<String> = area_lines
                 .iter()
                 .filter_map(|&l| place(l))
-                .take(SHOWN)
+                .take(AREA_LIGHTS_SHOWN)
                 .collect();
-            if area_lines.len() > SHOWN && !at.is_empty() {
-                at.push(format!("and {} more", area_lines.len() - SHOWN));
+            if area_lines.len() > AREA_LIGHTS_SHOWN && !at.is_empty() {
+                at.push(format!("and {} more", area_lines.len() - AREA_LIGHTS_SHOWN));
             }
-            let at = if at.is_empty() {
-                String::new()
-            } else {
-                format!(" ({})", at.join(", "))
-            };
-            drivers.push(format!(
-                "{} with {area} area light(s){at}: {per_area} shadow rays each a point",
-                key("shade_quality", &cam.shade_quality)
-            ));
+            drivers.push(Driver::AreaLights {
+                quality: key("shade_quality", &cam.shade_quality),
+                count: area,
+                at,
+                shadow_rays: per_area,
+            });
         }
         let model = crate::integrator::Model::of(self.scene.dialect().dialect, cam);
         let glossy = model.glossy != crate::integrator::Glossy::Mirror
             && self.scene.materials().any(|m| m.drefl > 0.0);
         let spread = if glossy {
             let n = u64::from(model.glossy_samples);
-            drivers.push(format!(
-                "{}: {n} rays a glossy reflection",
-                key("drefl_quality", &cam.drefl_quality)
-            ));
+            drivers.push(Driver::Glossy {
+                quality: key("drefl_quality", &cam.drefl_quality),
+                rays: n,
+            });
             n
         } else {
             1
@@ -122,7 +241,7 @@ impl Renderer {
                 1
             };
             let p = &cam.photons;
-            let mut keys: Vec<String> = Vec::new();
+            let mut keys = Vec::new();
             if options.photons.mode.is_none()
                 && let Some(a) = cam.algorithm.as_deref()
             {
@@ -137,16 +256,12 @@ impl Renderer {
             {
                 keys.extend(file_key("iterations", &n));
             }
-            let keys = if keys.is_empty() {
-                String::new()
-            } else {
-                format!(" ({})", keys.join(", "))
-            };
-            drivers.push(format!(
-                "photons {}: {} a pass, {passes} pass(es){keys}",
-                plan.mode.name(),
-                plan.emit
-            ));
+            drivers.push(Driver::Photons {
+                mode: plan.mode,
+                emit: plan.emit,
+                passes,
+                keys,
+            });
             let eye = if plan.mode == PhotonMode::Sppm {
                 pixels.saturating_mul(1 + shadow)
             } else {

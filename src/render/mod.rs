@@ -40,7 +40,7 @@ pub use aov::Aov;
 #[cfg(feature = "serve")]
 pub(crate) use camera::basis;
 pub use error::RenderError;
-pub use estimate::WorkEstimate;
+pub use estimate::{CameraKey, Driver, WorkEstimate};
 pub use explain::{Explanation, HitPointTerm, MAX_EXPLAINED_SPP, ProgressiveTerm, Sampling};
 pub use film::{Film, Plane, Region};
 pub use options::{Checkpoint, Control, RenderOptions, Stage};

@@ -79,7 +79,7 @@ impl Renderer {
         let iterations = done.stats.iterations;
         let sppm = plan.mode == PhotonMode::Sppm;
         let term = pixel::ProgressiveTerm {
-            algorithm: if sppm { "sppm" } else { "ppm" },
+            algorithm: plan.mode,
             iterations,
             emitted: done.stats.emitted,
             direct: done

@@ -5,6 +5,7 @@
 use crate::accel::PACKET_MAX;
 use crate::geometry::{Ray, offset_origin};
 use crate::image::Image;
+use crate::integrator::photons::PhotonMode;
 use crate::integrator::{
     AaHash, AntiAlias, Blocker, PathState, RayNode, RayTree, SceneAccel, ShadowHints,
 };
@@ -40,8 +41,8 @@ pub struct Explanation {
 /// render's iterations (the same photons, gathered the same way).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ProgressiveTerm {
-    /// `ppm` or `sppm`.
-    pub algorithm: &'static str,
+    /// PPM or SPPM.
+    pub algorithm: PhotonMode,
     /// Iterations done.
     pub iterations: u64,
     /// Photons emitted in each.
@@ -201,12 +202,12 @@ impl Explanation {
             let share = 100.0 * photons.element_sum() / all.element_sum();
             self.verdict.push_str(&format!(
                 " {}'s photons give {share:.0} % of its light.",
-                term.algorithm.to_uppercase()
+                term.algorithm.name().to_uppercase()
             ));
         } else {
             self.verdict.push_str(&format!(
                 " {}'s photons add nothing here.",
-                term.algorithm.to_uppercase()
+                term.algorithm.name().to_uppercase()
             ));
         }
         self.progressive = Some(term);

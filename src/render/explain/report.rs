@@ -369,7 +369,7 @@ impl Explanation {
             "file": file,
             "samples": self.samples.iter().map(|s| node_json(s, file, expand)).collect::<Vec<_>>(),
             "progressive": self.progressive.as_ref().map(|p| json!({
-                "algorithm": p.algorithm,
+                "algorithm": p.algorithm.name(),
                 "iterations": p.iterations,
                 "emitted": p.emitted,
                 "direct": p.direct,
@@ -395,7 +395,7 @@ fn progressive_text(out: &mut String, p: &ProgressiveTerm) {
     let _ = writeln!(
         out,
         "photons ({}, {} iterations of {} photons): the ray-traced part {}",
-        p.algorithm.to_uppercase(),
+        p.algorithm.name().to_uppercase(),
         p.iterations,
         p.emitted,
         f(direct)
