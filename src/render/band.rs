@@ -182,7 +182,7 @@ where
             tile,
             n,
             state: (rays, hints),
-            put,
+            mut put,
             mut spent,
         } = self;
         let seen = |x, y, o: &O| {
@@ -190,7 +190,11 @@ where
                 spent(x, y, q)
             }
         };
-        frame.stratified_tile(tile, n, rays, hints, fresh, put, seen);
+        let put = |x, y, c, r: &RayCounts| {
+            rays.add(r);
+            put(x, y, c, r.total())
+        };
+        frame.stratified_tile(tile, n, hints, fresh, put, seen);
     }
 }
 

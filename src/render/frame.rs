@@ -224,11 +224,9 @@ impl<'a> Frame<'a> {
     /// of the framework's 7×7 grid of camera rays (or PM3's five rays),
     /// traced as one packet, each watched by a copy of `fresh` that is
     /// handed to `seen` once traced.
-    #[allow(clippy::too_many_arguments)] // the pixel, its rays' tallies and observers
     pub fn refine<O: PathObserver + Clone>(
         &self,
-        x: u32,
-        y: u32,
+        (x, y): (u32, u32),
         first: DVec3,
         rays: &mut RayCounts,
         hints: &mut ShadowHints,
@@ -285,15 +283,13 @@ impl<'a> Frame<'a> {
     /// samples: calls `put(x, y, mean, rays traced)` for each pixel, the
     /// tile's samples traced in packets, each watched by a copy of `fresh`
     /// that is handed to `seen(x, y, observer)` once traced.
-    #[allow(clippy::too_many_arguments)] // the tile, its rays' tallies and observers
     pub fn stratified_tile<O: PathObserver + Clone>(
         &self,
         (xs, ys): Tile,
         n: u32,
-        rays: &mut RayCounts,
         hints: &mut ShadowHints,
         fresh: &O,
-        mut put: impl FnMut(u32, u32, DVec3, u64),
+        mut put: impl FnMut(u32, u32, DVec3, &RayCounts),
         mut seen: impl FnMut(u32, u32, &O),
     ) {
         let strata = strata(n);
@@ -308,7 +304,7 @@ impl<'a> Frame<'a> {
             (x, y, (i % n) as u32)
         };
         let mut sum = DVec3::ZERO;
-        let mut pixel_rays = 0;
+        let mut pixel_rays = RayCounts::default();
         let mut start = 0;
         while start < total {
             let len = (total - start).min(PACKET_MAX as u64);
@@ -324,11 +320,10 @@ impl<'a> Frame<'a> {
                     seen(x, y, o);
                     // Summed in sample order, as ray after ray would be.
                     sum += c;
-                    rays.add(r);
-                    pixel_rays += r.total();
+                    pixel_rays.add(r);
                     if u64::from(s) + 1 == n {
-                        put(x, y, sum / n as f64, pixel_rays);
-                        (sum, pixel_rays) = (DVec3::ZERO, 0);
+                        put(x, y, sum / n as f64, &pixel_rays);
+                        (sum, pixel_rays) = (DVec3::ZERO, RayCounts::default());
                     }
                 },
                 hints,
@@ -430,8 +425,7 @@ mod tests {
         for (x, y) in [(0, 0), (30, 18), (60, 36), (12, 25)] {
             let mut rays = RayCounts::default();
             let got = frame.refine(
-                x,
-                y,
+                (x, y),
                 DVec3::ZERO,
                 &mut rays,
                 &mut hints,
@@ -510,18 +504,11 @@ mod tests {
             }
             let mut rays = RayCounts::default();
             let mut got = std::collections::HashMap::new();
-            let put = |x, y, c, _| {
+            let put = |x, y, c, r: &RayCounts| {
                 assert!(got.insert((x, y), c).is_none(), "pixel {x} {y} twice");
+                rays.add(r);
             };
-            frame.stratified_tile(
-                (xs, ys),
-                n,
-                &mut rays,
-                &mut hints,
-                &NoObserver,
-                put,
-                |_, _, _| {},
-            );
+            frame.stratified_tile((xs, ys), n, &mut hints, &NoObserver, put, |_, _, _| {});
             assert_eq!(got, want, "{n} samples");
             assert_eq!(rays, want_rays, "{n} samples");
             assert!(rays.shadow > 0);

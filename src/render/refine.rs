@@ -101,7 +101,7 @@ impl ObservedJob for Grid<'_> {
         };
         let c = self
             .frame
-            .refine(x, y, self.first, &mut rays, self.hints, fresh, add);
+            .refine((x, y), self.first, &mut rays, self.hints, fresh, add);
         (c, rays, spent)
     }
 }
