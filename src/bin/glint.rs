@@ -3,7 +3,7 @@
 use clap::{Args, Parser, Subcommand};
 use glint::{
     Aov, Control, Dialect, Film, Format, MAX_THREADS, PhotonFilter, PhotonMode, PhotonOptions,
-    RaysError, Region, RenderError, RenderOptions, Renderer, Scene, read_rays, to_json, to_text,
+    RaysError, Region, RenderError, RenderOptions, Renderer, Scene, probe, read_rays,
 };
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::{IsTerminal, Write};
@@ -895,9 +895,9 @@ fn run_probe(args: ProbeArgs) -> Result<(), Failure> {
                 for &(o, d) in chunk {
                     let hit = prober.probe(o, d);
                     if args.json {
-                        s.push_str(&to_json(hit.as_ref()));
+                        s.push_str(&probe::to_json(hit.as_ref()));
                     } else {
-                        s.push_str(&to_text(hit.as_ref()));
+                        s.push_str(&probe::to_text(hit.as_ref()));
                     }
                     s.push('\n');
                 }
