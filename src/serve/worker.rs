@@ -4,9 +4,9 @@
 //! (coarse preview, full image, passes, comparison), publishing each as it
 //! is ready. A broken file leaves the last good picture in place.
 
-use super::frame::Frame;
+use super::file_watch::FileWatch;
+use super::picture::Picture;
 use super::state::{Compared, Phase, Shared};
-use super::watch::Watch;
 use crate::output::Format;
 use crate::render::{Aov, Control, RenderError, RenderOptions, Renderer, Stage};
 use crate::scene::{Diagnostic, Dialect, Scene, Severity};
@@ -79,7 +79,7 @@ pub(crate) struct Config {
 }
 
 /// Polls the files of `watch` for ever, firing `trigger` on a change.
-pub(crate) fn watch_loop(watch: &Mutex<Watch>, trigger: &Trigger) {
+pub(crate) fn watch_loop(watch: &Mutex<FileWatch>, trigger: &Trigger) {
     loop {
         std::thread::sleep(POLL);
         let changed = watch.lock().unwrap_or_else(|e| e.into_inner()).changed();
@@ -90,7 +90,7 @@ pub(crate) fn watch_loop(watch: &Mutex<Watch>, trigger: &Trigger) {
 }
 
 /// Renders every save for ever.
-pub(crate) fn work_loop(shared: &Shared, config: &Config, watch: &Mutex<Watch>, trigger: &Trigger) {
+pub(crate) fn work_loop(shared: &Shared, config: &Config, watch: &Mutex<FileWatch>, trigger: &Trigger) {
     let mut version = 0;
     loop {
         let (noticed, cancel) = trigger.next();
@@ -169,7 +169,7 @@ fn ms(t: Instant) -> f64 {
 fn render_version(
     shared: &Shared,
     config: &Config,
-    watch: &Mutex<Watch>,
+    watch: &Mutex<FileWatch>,
     version: u64,
     noticed: Instant,
     cancel: &AtomicBool,
@@ -183,7 +183,7 @@ fn render_version(
         p.store(0, Ordering::Relaxed);
     }
     // Stamped before reading: a save while the file is read is not missed.
-    let mut next = Watch::default();
+    let mut next = FileWatch::default();
     next.add(&shared.scene);
     let scene = match Scene::from_file_as(&shared.scene, config.dialect) {
         Ok(scene) => scene,
@@ -262,19 +262,19 @@ fn render_version(
             Stage::Coarse => ("coarse", Phase::Final),
             Stage::Final => ("final", Phase::Passes),
         };
-        let id = shared.next_frame_id();
+        let id = shared.next_picture_id();
         let full = size.unwrap_or(film.frame_size());
-        let Ok(frame) = Frame::new(id, version, name, full, film, &renderer) else {
+        let Ok(picture) = Picture::new(id, version, name, full, film, &renderer) else {
             return;
         };
-        let frame = Arc::new(frame);
-        let summary = frame.summary().to_string();
+        let picture = Arc::new(picture);
+        let summary = picture.summary().to_string();
         shared.update(|s| {
             if stage == Stage::Coarse {
                 s.passes.clear();
                 s.compare = None;
             }
-            s.frame = Some(frame);
+            s.picture = Some(picture);
             s.renderer = Some(renderer.clone());
             s.good_version = Some(version);
             s.size = size;
