@@ -14,6 +14,7 @@ mod picture;
 mod rays;
 mod routes;
 mod state;
+mod version;
 mod worker;
 
 use crate::render::RenderOptions;
