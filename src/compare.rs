@@ -4,6 +4,7 @@
 
 use crate::image::Image;
 use crate::render::{Aov, RenderError, RenderOptions, Renderer, place};
+use crate::scene::Dialect;
 use serde_json::{Value, json};
 use std::fmt::Write;
 use std::path::Path;
@@ -187,7 +188,7 @@ pub fn compare(
 
 /// The options of `glint explain` that draw a pixel as a render with
 /// `options` in `dialect` does.
-fn explain_options(options: &RenderOptions, dialect: crate::Dialect) -> Vec<String> {
+fn explain_options(options: &RenderOptions, dialect: Dialect) -> Vec<String> {
     let given = [
         ("--width", options.width.map(u64::from)),
         ("--height", options.height.map(u64::from)),

@@ -3,7 +3,7 @@
 use clap::{Args, Parser, Subcommand};
 use glint::{
     Aov, Control, Dialect, Film, Format, MAX_THREADS, PhotonFilter, PhotonMode, PhotonOptions,
-    RaysError, Region, RenderError, RenderOptions, Renderer, Scene, read_rays, to_json, to_text,
+    RaysError, Region, RenderError, RenderOptions, Renderer, Scene, probe, read_rays,
 };
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::{IsTerminal, Write};
@@ -251,7 +251,7 @@ struct ProbeArgs {
 #[derive(Args)]
 struct PhotonArgs {
     /// Photon mapping: pm, ppm, sppm or off [default: as the file's dialect and `algorithm=` say]
-    #[arg(long, value_parser = photon_mode)]
+    #[arg(long)]
     photons: Option<PhotonMode>,
     /// PPM and SPPM iterations, overriding the camera's `iterations=` (at least 1).
     #[arg(long, value_parser = at_least_one::<u64>)]
@@ -260,7 +260,7 @@ struct PhotonArgs {
     #[arg(long, value_parser = at_least_one::<u64>)]
     emit: Option<u64>,
     /// How gathered photons are weighted by distance: box or cone (Jensen's).
-    #[arg(long, value_parser = photon_filter, default_value = "box")]
+    #[arg(long, default_value_t)]
     photon_filter: PhotonFilter,
 }
 
@@ -272,21 +272,6 @@ impl PhotonArgs {
             emit: self.emit,
             filter: self.photon_filter,
         }
-    }
-}
-
-/// Parses `--photons MODE`.
-fn photon_mode(s: &str) -> Result<PhotonMode, String> {
-    PhotonMode::from_name(s)
-        .ok_or_else(|| format!("unknown photon mode `{s}`: expected pm, ppm, sppm or off"))
-}
-
-/// Parses `--photon-filter NAME`.
-fn photon_filter(s: &str) -> Result<PhotonFilter, String> {
-    match s {
-        "box" => Ok(PhotonFilter::Box),
-        "cone" => Ok(PhotonFilter::Cone),
-        _ => Err(format!("unknown photon filter `{s}`: expected box or cone")),
     }
 }
 
@@ -914,9 +899,9 @@ fn run_probe(args: ProbeArgs) -> Result<(), Failure> {
                 for &(o, d) in chunk {
                     let hit = prober.probe(o, d);
                     if args.json {
-                        s.push_str(&to_json(hit.as_ref()));
+                        s.push_str(&probe::to_json(hit.as_ref()));
                     } else {
-                        s.push_str(&to_text(hit.as_ref()));
+                        s.push_str(&probe::to_text(hit.as_ref()));
                     }
                     s.push('\n');
                 }

@@ -52,7 +52,7 @@ pub struct Control<'c> {
 /// Which image of a progressive render a callback is given.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Stage {
-    /// A quarter-size preview, one ray per pixel.
+    /// The preview: a cheaper render shown first.
     Coarse,
     /// The render the options ask for.
     Final,

@@ -344,29 +344,24 @@ impl Renderer {
         Plan::of(&self.scene, &options.photons).1
     }
 
-    /// Renders a quarter-size preview at one ray per pixel, hands it to
-    /// `show`, then renders what `options` ask for and hands that over too
-    /// (a region is rendered without a preview). Stops at once when the
-    /// flag of `control` is set.
+    /// Renders `preview` (a cheaper render of the same picture, such as a
+    /// smaller one at one ray per pixel; none when `None`) without progress
+    /// reports and hands it to `show` as [`Stage::Coarse`], then renders what
+    /// `options` ask for and hands that over as [`Stage::Final`]. Stops at
+    /// once when the flag of `control` is set.
     pub fn render_progressive(
         &self,
         options: &RenderOptions,
+        preview: Option<&RenderOptions>,
         control: Control<'_>,
         show: &mut dyn FnMut(Stage, &Film),
     ) -> Result<(Film, RenderStats), RenderError> {
-        if options.region.is_none() {
-            let (w, h) = self.frame_size(options)?;
-            let coarse = RenderOptions {
-                width: Some(w.div_ceil(4)),
-                height: Some(h.div_ceil(4)),
-                spp: Some(1),
-                ..options.clone()
-            };
+        if let Some(preview) = preview {
             let quiet = Control {
                 progress: None,
                 ..control
             };
-            let (film, _) = self.render_with(&coarse, quiet)?;
+            let (film, _) = self.render_with(preview, quiet)?;
             show(Stage::Coarse, &film);
         }
         let (film, stats) = self.render_with(options, control)?;
@@ -509,15 +504,44 @@ mod tests {
     #[test]
     fn a_progressive_render_shows_a_coarse_then_the_final_image() {
         let r = scene();
-        let mut shown = Vec::new();
         let options = RenderOptions::default();
-        let (film, _) = match r.render_progressive(&options, Control::default(), &mut |stage, f| {
-            shown.push((stage, f.image().width(), f.image().height()));
-        }) {
+        let quarter = RenderOptions {
+            width: Some(10),
+            height: Some(8),
+            spp: Some(1),
+            ..options.clone()
+        };
+        let mut shown = Vec::new();
+        let (film, _) = match r.render_progressive(
+            &options,
+            Some(&quarter),
+            Control::default(),
+            &mut |stage, f| shown.push((stage, f.image().width(), f.image().height())),
+        ) {
             Ok(done) => done,
             Err(e) => panic!("{e}"), // invariant: the test's own fixed input (a failure fails the test)
         };
         assert_eq!(shown, vec![(Stage::Coarse, 10, 8), (Stage::Final, 40, 30)]);
         assert_eq!(film.image(), &render(&r, &options));
+        // A flag set once the preview is shown stops the final render.
+        let flag = AtomicBool::new(false);
+        let control = Control {
+            cancel: Some(&flag),
+            ..Control::default()
+        };
+        let mut stages = Vec::new();
+        let run = r.render_progressive(&options, Some(&quarter), control, &mut |stage, _| {
+            stages.push(stage);
+            flag.store(true, std::sync::atomic::Ordering::Relaxed);
+        });
+        assert_eq!(run.map(|_| ()), Err(RenderError::Cancelled));
+        assert_eq!(stages, vec![Stage::Coarse]);
+        // Without a preview, only the final image is shown.
+        let mut stages = Vec::new();
+        let run = r.render_progressive(&options, None, Control::default(), &mut |stage, _| {
+            stages.push(stage)
+        });
+        assert!(run.is_ok());
+        assert_eq!(stages, vec![Stage::Final]);
     }
 }

@@ -234,7 +234,7 @@ fn respond(rq: tiny_http::Request, reply: Reply) {
 }
 
 /// Keeps an event stream open on a thread of its own: the state and the
-/// current frame first, then every event until the page goes away.
+/// current picture (a `frame` event) first, then every event until the page goes away.
 fn stream(app: &Arc<App>, rq: tiny_http::Request) {
     if app.streams.fetch_add(1, Ordering::SeqCst) >= MAX_STREAMS {
         app.streams.fetch_sub(1, Ordering::SeqCst);
@@ -259,11 +259,11 @@ fn stream(app: &Arc<App>, rq: tiny_http::Request) {
 
 fn run_stream(app: &App, rq: tiny_http::Request) {
     let events = app.shared.events.subscribe();
-    let (state, frame) = {
+    let (state, picture) = {
         let s = app.shared.lock();
         (
             state_json(&s, &app.shared).to_string(),
-            s.frame.as_ref().map(|f| f.summary().to_string()),
+            s.picture.as_ref().map(|p| p.summary().to_string()),
         )
     };
     let mut w = rq.into_writer();
@@ -272,8 +272,8 @@ fn run_stream(app: &App, rq: tiny_http::Request) {
          X-Content-Type-Options: nosniff\r\n\r\nretry: 500\n\n",
     );
     first.push_str(&format("state", &state));
-    if let Some(f) = frame {
-        first.push_str(&format("frame", &f));
+    if let Some(p) = picture {
+        first.push_str(&format("frame", &p));
     }
     if w.write_all(first.as_bytes())
         .and_then(|()| w.flush())

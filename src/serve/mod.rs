@@ -6,14 +6,15 @@
 //! `docs/serve.md`. Every request must carry the random token of the URL.
 
 mod events;
-mod frame;
+mod file_watch;
 #[cfg(unix)]
 mod gate;
 mod http;
+mod picture;
 mod rays;
 mod routes;
 mod state;
-mod watch;
+mod version;
 mod worker;
 
 use crate::render::RenderOptions;
@@ -158,7 +159,7 @@ impl Server {
             theirs_png,
             options.render.clone(),
         ));
-        let watch = Arc::new(Mutex::new(watch::Watch::default()));
+        let watch = Arc::new(Mutex::new(file_watch::FileWatch::default()));
         let trigger = Arc::new(worker::Trigger::new());
         let config = worker::Config {
             dialect: options.dialect,

@@ -87,7 +87,7 @@ pub(crate) fn route(shared: &Shared, token: &str, path: &str, query: &[(String, 
             json_reply(&state_json(&s, shared))
         }
         "/api/events" => Reply::Events,
-        "/api/image.png" | "/api/ids" => frame_part(shared, path == "/api/ids", query),
+        "/api/image.png" | "/api/ids" => picture_part(shared, path == "/api/ids", query),
         "/api/explain" => explain(shared, query),
         "/api/theirs.png" => match &shared.theirs {
             Some(png) => Reply::Done(200, "image/png", Body::Shared(png.clone())),
@@ -114,15 +114,15 @@ pub(crate) fn route(shared: &Shared, token: &str, path: &str, query: &[(String, 
     }
 }
 
-/// The current frame's picture or id buffer (`?frame=ID`: only while that
-/// frame is the current one, else 410 Gone: a newer one is announced).
-fn frame_part(shared: &Shared, ids: bool, query: &[(String, String)]) -> Reply {
-    let Some(frame) = shared.lock().frame.clone() else {
+/// The current picture's PNG or id buffer (`?frame=ID`: only while that
+/// picture is the current one, else 410 Gone: a newer one is announced).
+fn picture_part(shared: &Shared, ids: bool, query: &[(String, String)]) -> Reply {
+    let Some(picture) = shared.lock().picture.clone() else {
         return text(404, "no picture yet");
     };
     if let Some(want) = param(query, "frame") {
         match want.parse::<u64>() {
-            Ok(id) if id == frame.id => {}
+            Ok(id) if id == picture.id => {}
             Ok(_) => return text(410, "that frame is gone: a newer one is current"),
             Err(_) => return text(400, "bad request: frame= takes a frame number"),
         }
@@ -131,10 +131,10 @@ fn frame_part(shared: &Shared, ids: bool, query: &[(String, String)]) -> Reply {
         Reply::Done(
             200,
             "application/octet-stream",
-            Body::Shared(frame.ids.clone()),
+            Body::Shared(picture.ids.clone()),
         )
     } else {
-        Reply::Done(200, "image/png", Body::Shared(frame.png.clone()))
+        Reply::Done(200, "image/png", Body::Shared(picture.png.clone()))
     }
 }
 

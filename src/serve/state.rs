@@ -1,10 +1,10 @@
 //! What the server knows now, shared by the render worker (which writes
 //! it) and the request handlers (which read it): the scene's version, the
-//! diagnostics, the stage and progress of the render, the latest frame,
+//! diagnostics, the stage and progress of the render, the latest picture,
 //! the last good renderer with its passes and comparison.
 
 use super::events::Events;
-use super::frame::Frame;
+use super::picture::Picture;
 use crate::RenderOptions;
 use crate::Renderer;
 use crate::scene::{Diagnostic, Severity};
@@ -76,7 +76,7 @@ pub(crate) struct State {
     /// The current version's errors and warnings.
     pub diagnostics: Vec<Diagnostic>,
     /// The latest picture shown (of the last good version).
-    pub frame: Option<Arc<Frame>>,
+    pub picture: Option<Arc<Picture>>,
     /// The last good scene, prepared, for `explain`.
     pub renderer: Option<Arc<Renderer>>,
     /// The passes of the last good version, as PNG, by name.
@@ -102,8 +102,8 @@ pub(crate) struct Shared {
     pub options: RenderOptions,
     /// Camera rays done and in all, of the running stage.
     pub progress: [AtomicU64; 2],
-    /// The last frame's number.
-    frames: AtomicU64,
+    /// The last picture's number.
+    pictures: AtomicU64,
 }
 
 impl Shared {
@@ -116,7 +116,7 @@ impl Shared {
                 size: None,
                 phase: Phase::Reading,
                 diagnostics: Vec::new(),
-                frame: None,
+                picture: None,
                 renderer: None,
                 passes: Vec::new(),
                 compare: None,
@@ -128,7 +128,7 @@ impl Shared {
             theirs,
             options,
             progress: [AtomicU64::new(0), AtomicU64::new(0)],
-            frames: AtomicU64::new(0),
+            pictures: AtomicU64::new(0),
         }
     }
 
@@ -137,9 +137,9 @@ impl Shared {
         self.state.lock().unwrap_or_else(|e| e.into_inner())
     }
 
-    /// A new frame's number.
-    pub fn next_frame_id(&self) -> u64 {
-        self.frames.fetch_add(1, Ordering::Relaxed) + 1
+    /// A new picture's number.
+    pub fn next_picture_id(&self) -> u64 {
+        self.pictures.fetch_add(1, Ordering::Relaxed) + 1
     }
 
     /// Changes the state with `f` and announces the new state.
@@ -189,7 +189,7 @@ pub(crate) fn state_json(s: &State, shared: &Shared) -> Value {
         },
         "errors": s.diagnostics.iter().filter(|d| d.severity == Severity::Error).count(),
         "diagnostics": s.diagnostics.iter().map(diagnostic_json).collect::<Vec<_>>(),
-        "frame": s.frame.as_ref().map(|f| f.summary()),
+        "frame": s.picture.as_ref().map(|p| p.summary()),
         "passes": s.passes.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>(),
         "compare": s.compare.as_ref().map(|c| &c.summary),
         "theirs": shared.theirs.is_some(),

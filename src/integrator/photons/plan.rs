@@ -46,6 +46,16 @@ impl PhotonMode {
     }
 }
 
+impl std::str::FromStr for PhotonMode {
+    type Err = String;
+
+    /// As [`PhotonMode::from_name`], with the command line's message.
+    fn from_str(s: &str) -> Result<PhotonMode, String> {
+        PhotonMode::from_name(s)
+            .ok_or_else(|| format!("unknown photon mode `{s}`: expected pm, ppm, sppm or off"))
+    }
+}
+
 /// How gathered photons are weighted by their distance.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum PhotonFilter {
@@ -54,6 +64,42 @@ pub enum PhotonFilter {
     Box,
     /// Jensen's cone filter: 1 − dist/(1.1·r), normalised.
     Cone,
+}
+
+impl PhotonFilter {
+    /// The filter named `s` (`box`, `cone`).
+    pub fn from_name(s: &str) -> Option<PhotonFilter> {
+        match s {
+            "box" => Some(PhotonFilter::Box),
+            "cone" => Some(PhotonFilter::Cone),
+            _ => None,
+        }
+    }
+
+    /// Its name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            PhotonFilter::Box => "box",
+            PhotonFilter::Cone => "cone",
+        }
+    }
+}
+
+impl std::str::FromStr for PhotonFilter {
+    type Err = String;
+
+    /// As [`PhotonFilter::from_name`], with the command line's message.
+    fn from_str(s: &str) -> Result<PhotonFilter, String> {
+        PhotonFilter::from_name(s)
+            .ok_or_else(|| format!("unknown photon filter `{s}`: expected box or cone"))
+    }
+}
+
+impl std::fmt::Display for PhotonFilter {
+    /// Its name (the command line's default value is shown by it).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
 }
 
 /// What the command line says about photons; `None` fields: as the file says.

@@ -15,11 +15,11 @@ struct Stamp {
 
 /// A set of files and how each looked when first stamped.
 #[derive(Clone, Debug, Default)]
-pub(crate) struct Watch {
+pub(crate) struct FileWatch {
     files: Vec<(PathBuf, Option<Stamp>)>,
 }
 
-impl Watch {
+impl FileWatch {
     /// Adds `path`, stamped now (a path already watched keeps its stamp).
     pub fn add(&mut self, path: &Path) {
         if !self.files.iter().any(|(p, _)| p == path) {
@@ -74,7 +74,7 @@ mod tests {
         std::fs::create_dir_all(&dir)?;
         let file = dir.join("a.txt");
         std::fs::write(&file, "one")?;
-        let mut w = Watch::default();
+        let mut w = FileWatch::default();
         w.add(&file);
         assert!(!w.changed());
         std::fs::write(&file, "three")?;

@@ -8,9 +8,10 @@ use serde_json::{Value, json};
 use std::collections::BTreeSet;
 use std::sync::Arc;
 
-/// One picture of a version: the coarse preview or the full image.
-pub(crate) struct Frame {
-    /// Counts every frame made (the page asks for this one's files by it).
+/// One picture of a version: the coarse preview or the full image (the
+/// API calls it a frame: the `frame` event, `?frame=ID`).
+pub(crate) struct Picture {
+    /// Counts every picture made (the page asks for this one's files by it).
     pub id: u64,
     /// The scene's version it shows.
     pub version: u64,
@@ -32,8 +33,8 @@ pub(crate) struct Frame {
     pub legend: Value,
 }
 
-impl Frame {
-    /// The frame of `film` (which holds a `primitive` plane) rendered by
+impl Picture {
+    /// The picture of `film` (which holds a `primitive` plane) rendered by
     /// `renderer`, numbered `id`, of scene version `version`, standing for
     /// a `full`-sized image.
     pub fn new(
@@ -43,7 +44,7 @@ impl Frame {
         full: (u32, u32),
         film: &Film,
         renderer: &Renderer,
-    ) -> Result<Frame, String> {
+    ) -> Result<Picture, String> {
         let image = film.image();
         let (width, height) = (image.width(), image.height());
         let png = image.encode(Format::Png)?;
@@ -69,7 +70,7 @@ impl Frame {
             };
             legend.insert(id.to_string(), entry);
         }
-        Ok(Frame {
+        Ok(Picture {
             id,
             version,
             stage,
@@ -98,7 +99,7 @@ impl Frame {
     }
 }
 
-/// `values` (row by row) as the id buffer's bytes (see [`Frame::ids`]).
+/// `values` (row by row) as the id buffer's bytes (see [`Picture::ids`]).
 pub(crate) fn run_lengths(width: u32, height: u32, values: &[i32]) -> Vec<u8> {
     let mut out = Vec::with_capacity(12 + 64);
     out.extend_from_slice(b"GLID");
