@@ -109,7 +109,7 @@ pub fn compare(
     let film = renderer.render(&options)?;
     let ours = film.image().to_rgb8();
     let prim = film
-        .plane("primitive")
+        .aov(Aov::Primitive)
         .map(|p| p.data.clone())
         .unwrap_or_default();
     let table = renderer.primitive_table();

@@ -51,14 +51,13 @@ pub use image::Image;
 pub use integrator::photons::{PhotonFilter, PhotonMode, PhotonOptions};
 pub use integrator::{Blocker, HitInfo, LightTerm, PhotonTerm, RayCounts, RayKind, RayNode};
 pub use output::{
-    Format, PrimitiveTable, SaveError, pass_path, primitive_colour, save_exr_layers,
-    save_pass_images,
+    Format, PrimitiveTable, SaveError, aov_path, primitive_colour, save_aov_images, save_exr_layers,
 };
 pub use probe::{MAX_RAY_ERRORS, ProbeHit, RayError, RaysError, parse_ray, read_rays};
 pub use render::{
-    Aov, CameraKey, Checkpoint, Control, Driver, Explanation, Film, HitPointTerm, LIGHT_AOVS_MAX,
-    MAX_EXPLAINED_SPP, MAX_THREADS, PhotonStats, Plane, ProgressiveTerm, Region, RenderError,
-    RenderOptions, RenderStats, Renderer, Sampling, Stage, WorkEstimate,
+    Aov, AovImage, CameraKey, Checkpoint, Control, Driver, Explanation, Film, HitPointTerm,
+    LIGHT_AOVS_MAX, MAX_EXPLAINED_SPP, MAX_THREADS, PhotonStats, ProgressiveTerm, Region,
+    RenderError, RenderOptions, RenderStats, Renderer, Sampling, Stage, WorkEstimate,
 };
 pub use scene::{Dialect, DialectChoice, Scene, SceneError};
 

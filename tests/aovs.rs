@@ -34,16 +34,19 @@ fn film(spp: Option<u32>) -> (Scene, Renderer, Film) {
 fn first_hit_passes_match_the_probe_and_the_materials() {
     let (s, r, f) = film(None);
     let cam = s.camera().clone();
-    let plane = |name: &str| f.plane(name).unwrap_or_else(|| panic!("no {name} plane"));
+    let plane = |aov: Aov| f.aov(aov).unwrap_or_else(|| panic!("no {aov:?} AOV"));
     let (normal, depth, position, prim, albedo, uv) = (
-        plane("normal"),
-        plane("depth"),
-        plane("position"),
-        plane("primitive"),
-        plane("albedo"),
-        plane("uv"),
+        plane(Aov::Normal),
+        plane(Aov::Depth),
+        plane(Aov::Position),
+        plane(Aov::Primitive),
+        plane(Aov::Albedo),
+        plane(Aov::Uv),
     );
-    assert_eq!((normal.channels, depth.channels, uv.channels), (3, 1, 2));
+    assert_eq!(
+        (normal.channels(), depth.channels(), uv.channels()),
+        (3, 1, 2)
+    );
     let (mut hits, mut misses) = (0, 0);
     for y in 0..cam.height {
         for x in 0..cam.width {
@@ -55,7 +58,7 @@ fn first_hit_passes_match_the_probe_and_the_materials() {
                 x,
                 y,
             );
-            let v3 = |p: &glint::Plane| {
+            let v3 = |p: &glint::AovImage| {
                 DVec3::new(
                     p.data[3 * i] as f64,
                     p.data[3 * i + 1] as f64,
@@ -96,7 +99,7 @@ fn passes_leave_the_picture_alone_and_follow_a_region() {
             })
             .unwrap_or_else(|e| panic!("{e}"));
         assert_eq!(f.image(), plain.image());
-        assert!(plain.planes().is_empty());
+        assert!(plain.aovs().is_empty());
         let region = glint::Region {
             x: 7,
             y: 5,
@@ -112,10 +115,7 @@ fn passes_leave_the_picture_alone_and_follow_a_region() {
             })
             .unwrap_or_else(|e| panic!("{e}"));
         for aov in Aov::ALL {
-            let (whole, cut) = (
-                f.plane(&aov.name()).map(|p| &p.data),
-                part.plane(&aov.name()).map(|p| &p.data),
-            );
+            let (whole, cut) = (f.aov(aov).map(|p| &p.data), part.aov(aov).map(|p| &p.data));
             let (Some(whole), Some(cut)) = (whole, cut) else {
                 panic!("{} missing", aov.name());
             };
@@ -190,11 +190,11 @@ fn the_cli_writes_pass_files_beside_the_picture() {
     let (_, r, f) = film(None);
     drop(r);
     let n = f
-        .plane("normal")
+        .aov(Aov::Normal)
         .map(|p| p.data.clone())
         .unwrap_or_default();
     let prim = f
-        .plane("primitive")
+        .aov(Aov::Primitive)
         .map(|p| p.data.clone())
         .unwrap_or_default();
     for (i, px) in img.pixels().enumerate() {
@@ -235,7 +235,10 @@ fn an_exr_holds_the_passes_as_layers() {
         .collect();
     assert_eq!(names, want);
     let depth = &image.layer_data[2].channel_data.list[0].sample_data;
-    let want = f.plane("depth").map(|p| p.data.clone()).unwrap_or_default();
+    let want = f
+        .aov(Aov::Depth)
+        .map(|p| p.data.clone())
+        .unwrap_or_default();
     let got: Vec<f32> = depth.values_as_f32().collect();
     assert_eq!(got, want);
 }
@@ -259,7 +262,7 @@ fn the_rays_pass_counts_each_pixels_rays() {
         ..RenderOptions::default()
     };
     let f = r.render(&options).unwrap_or_else(|e| panic!("{e}"));
-    let rays = f.plane("rays").map(|p| p.data.clone()).unwrap_or_default();
+    let rays = f.aov(Aov::Rays).map(|p| p.data.clone()).unwrap_or_default();
     let cam = s.camera();
     for y in 0..cam.height {
         for x in 0..cam.width {
@@ -272,7 +275,7 @@ fn the_rays_pass_counts_each_pixels_rays() {
             assert_eq!(rays[(y * 12 + x) as usize], want, "pixel {x} {y}");
         }
     }
-    assert_eq!(f.planes()[0].name, "rays", "in the order asked for");
+    assert_eq!(f.aovs()[0].aov, Aov::Rays, "in the order asked for");
     let (_, r, _) = film(None);
     let adaptive = RenderOptions {
         aovs: vec![Aov::Rays],
@@ -282,7 +285,7 @@ fn the_rays_pass_counts_each_pixels_rays() {
         .render_with(&adaptive, glint::Control::default())
         .unwrap_or_else(|e| panic!("{e}"));
     let sum: f64 = f
-        .plane("rays")
+        .aov(Aov::Rays)
         .map_or(0.0, |p| p.data.iter().map(|&v| v as f64).sum());
     assert_eq!(sum, stats.rays.total() as f64);
     assert!(stats.refined_pixels > 0);
@@ -318,12 +321,12 @@ fn the_lights_sum_to_the_picture_and_the_clamp_is_the_excess() {
         Aov::Clamp,
         Aov::Primitive,
     ]);
-    let plane = |name: &str| f.plane(name).unwrap_or_else(|| panic!("no {name} plane"));
+    let plane = |aov: Aov| f.aov(aov).unwrap_or_else(|| panic!("no {aov:?} AOV"));
     let (l0, l1, clamp, prim) = (
-        plane("light:0"),
-        plane("light:1"),
-        plane("clamp"),
-        plane("primitive"),
+        plane(Aov::Light(0)),
+        plane(Aov::Light(1)),
+        plane(Aov::Clamp),
+        plane(Aov::Primitive),
     );
     let cam = s.camera();
     let (mut lit, mut clamped) = (0, 0);
@@ -376,7 +379,7 @@ fn shade_and_why_follow_shadow_rays_traced_by_the_probe() {
         ..RenderOptions::default()
     };
     let f = r.render(&options).unwrap_or_else(|e| panic!("{e}"));
-    let (shade, why) = (f.plane("shade").unwrap(), f.plane("why").unwrap());
+    let (shade, why) = (f.aov(Aov::Shade).unwrap(), f.aov(Aov::Why).unwrap());
     let cam = s.camera().clone();
     let light = DVec3::new(4.0, -6.0, 8.0);
     // The legend's order (docs/debugging.md): background 0, faces away 5, in shadow 6, lit 8.
@@ -445,7 +448,7 @@ fn cost_counts_every_query_of_every_ray() {
             ..RenderOptions::default()
         };
         let f = r.render(&options).unwrap_or_else(|e| panic!("{e}"));
-        let (cost, rays) = (f.plane("cost").unwrap(), f.plane("rays").unwrap());
+        let (cost, rays) = (f.aov(Aov::Cost).unwrap(), f.aov(Aov::Rays).unwrap());
         let mut floor = 0;
         for y in 0..cam.height {
             for x in 0..cam.width {
@@ -478,7 +481,7 @@ fn cost_counts_every_query_of_every_ray() {
 #[test]
 fn cost_counts_nodes_of_the_tree() {
     let (s, r, f) = film(Some(1));
-    let (cost, prim) = (f.plane("cost").unwrap(), f.plane("primitive").unwrap());
+    let (cost, prim) = (f.aov(Aov::Cost).unwrap(), f.aov(Aov::Primitive).unwrap());
     let cam = s.camera();
     let mut bounded = 0;
     for i in 0..(cam.width * cam.height) as usize {
@@ -506,7 +509,7 @@ fn more_light_passes_than_one_render_takes_are_an_error() {
     let f = r.render(&asking(max)).unwrap_or_else(|e| panic!("{e}"));
     // Lights the scene lacks are black planes.
     assert!(
-        f.plane(&format!("light:{}", max - 1))
+        f.aov(Aov::Light(max - 1))
             .is_some_and(|p| p.data.iter().all(|&v| v == 0.0))
     );
     assert_eq!(

@@ -34,7 +34,7 @@ fn ours(r: &Renderer) -> (Vec<u8>, Vec<f32>) {
     };
     let film = r.render(&options).unwrap_or_else(|e| panic!("{e}"));
     let prim = film
-        .plane("primitive")
+        .aov(Aov::Primitive)
         .map(|p| p.data.clone())
         .unwrap_or_default();
     (film.image().to_rgb8(), prim)

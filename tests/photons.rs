@@ -3,7 +3,7 @@
 //! checkpoints every N iterations, a cancel keeping the last complete
 //! iteration, and the photon term brightening what the direct light leaves dark.
 
-use glint::{Control, PhotonMode, PhotonOptions, RenderError, RenderOptions, Renderer, Scene};
+use glint::{Aov, Control, PhotonMode, PhotonOptions, RenderError, RenderOptions, Renderer, Scene};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -179,7 +179,7 @@ fn the_photons_pass_is_the_term_explain_shows_and_ppms_estimate() {
     o.photons.emit = Some(200_000);
     o.aovs = vec![glint::Aov::Photons];
     let film = r.render(&o).expect("renders");
-    let plane = film.plane("photons").expect("a photons plane");
+    let plane = film.aov(Aov::Photons).expect("a photons AOV");
     let mut lit = 0;
     for (x, y) in [(20, 25), (5, 28), (35, 5), (12, 20), (30, 27)] {
         let at = ((y * 40 + x) * 3) as usize;
@@ -195,7 +195,7 @@ fn the_photons_pass_is_the_term_explain_shows_and_ppms_estimate() {
     // PPM: the pass is each pixel's estimate, and the picture holds it.
     o.photons.mode = Some(PhotonMode::Ppm);
     let film = r.render(&o).expect("renders");
-    let plane = film.plane("photons").expect("a photons plane");
+    let plane = film.aov(Aov::Photons).expect("a photons AOV");
     let image = film.image();
     let mut nonzero = 0;
     for y in 0..30 {
@@ -252,7 +252,7 @@ fn ppm_under_an_open_lens_blurs_the_caustic_it_does_not_focus() {
         o.photons.emit = Some(50_000);
         o.aovs = vec![glint::Aov::Photons];
         let film = renderer(&text).render(&o).expect("renders");
-        let plane = film.plane("photons").expect("a photons plane");
+        let plane = film.aov(Aov::Photons).expect("a photons AOV");
         let red: Vec<f32> = plane.data.chunks(3).map(|c| c[0]).collect();
         let peak = red.iter().copied().fold(0.0, f32::max);
         let spread = red.iter().filter(|&&v| v > peak / 4.0).count();

@@ -188,9 +188,10 @@ struct RenderArgs {
     /// Also print notes (where textures were found) and a breakdown of the rays.
     #[arg(short, long)]
     verbose: bool,
-    /// Passes to write beside the picture, comma-separated: normal, depth,
-    /// position, uv, primitive, albedo, rays, light:N, shade, why, clamp, cost
-    /// (layers of an .exr; else OUT.PASS.EXT files).
+    /// AOVs (arbitrary output values) to write beside the picture,
+    /// comma-separated: normal, depth, position, uv, primitive, albedo, rays,
+    /// light:N, shade, why, clamp, cost, photons (layers of an .exr; else
+    /// OUT.AOV.EXT files).
     #[arg(long)]
     aov: Option<String>,
     /// Render only columns X0..X1 and rows Y0..Y1 (ends excluded, rows from
@@ -649,7 +650,7 @@ fn run_render(args: RenderArgs, interrupt: &AtomicBool) -> Result<(), Failure> {
         bar.set_position(done);
     };
     // PPM and SPPM checkpoints: the picture so far, written atomically
-    // (passes and EXR layers are written at the end only).
+    // (AOVs and EXR layers are written at the end only).
     let never = AtomicBool::new(false);
     let checkpoint = |_: u64, film: &Film| {
         if let Err(e) = film.image().save_unless(&output, &never) {
@@ -691,7 +692,7 @@ fn run_render(args: RenderArgs, interrupt: &AtomicBool) -> Result<(), Failure> {
         if !options.aovs.is_empty() {
             let table = renderer.primitive_table();
             let file = renderer.scene_file();
-            let saved = glint::save_pass_images(&film, &output, &table, file.as_deref(), interrupt);
+            let saved = glint::save_aov_images(&film, &output, &table, file.as_deref(), interrupt);
             check_interrupt(interrupt)?;
             saved.map_err(cannot)?;
         }
@@ -784,7 +785,7 @@ fn check_memory(
         Some(avail) if need > avail => {
             let (w, h) = renderer.frame_size(options).map_err(render_failure)?;
             Err(fail(format!(
-                "error: a {w}x{h} render needs up to {:.1} GiB of memory, but only {:.1} GiB is available: render smaller, with fewer passes, or (photon mapping) fewer photons (`--emit`) or hit points (`max_hitpoints=`)",
+                "error: a {w}x{h} render needs up to {:.1} GiB of memory, but only {:.1} GiB is available: render smaller, with fewer AOVs, or (photon mapping) fewer photons (`--emit`) or hit points (`max_hitpoints=`)",
                 gib(need),
                 gib(avail),
             )))

@@ -1,13 +1,13 @@
-//! Writing a film's passes: as layers of one `.exr` beside the picture, or
-//! (any other format) one image per pass beside it, `OUT.PASS.EXT`, mapped
+//! Writing a film's AOVs: as layers of one `.exr` beside the picture, or
+//! (any other format) one image per AOV beside it, `OUT.AOV.EXT`, mapped
 //! to 8 bits (normals as 0.5 + 0.5·n; depth, position and rays normalised,
-//! their range in a sidecar `OUT.PASS.json`; primitives as false colours with a
+//! their range in a sidecar `OUT.AOV.json`; primitives as false colours with a
 //! legend `OUT.primitive.json`, the verdict's kinds likewise in `OUT.why.json`).
 
 use super::atomic::write_atomically;
 use super::picture::{Format, SaveError, encode_rgb8};
 use crate::image::to_byte;
-use crate::render::{Cause, Film, Plane};
+use crate::render::{Aov, AovImage, Cause, Film};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -32,10 +32,10 @@ pub fn primitive_colour(value: f32) -> [u8; 3] {
 
 /// `picture` with `.PASS` before its extension: `shot.png` -> `shot.normal.png`
 /// (`light:N` is written `light-N`, a colon being no file name's on Windows).
-pub fn pass_path(picture: &Path, pass: &str, ext: &str) -> PathBuf {
+pub fn aov_path(picture: &Path, aov: &str, ext: &str) -> PathBuf {
     let stem = picture.file_stem().unwrap_or_default().to_string_lossy();
-    let pass = pass.replace(':', "-");
-    picture.with_file_name(format!("{stem}.{pass}.{ext}"))
+    let aov = aov.replace(':', "-");
+    picture.with_file_name(format!("{stem}.{aov}.{ext}"))
 }
 
 fn write_err(path: &Path, message: impl ToString) -> SaveError {
@@ -73,14 +73,14 @@ pub fn save_exr_layers(film: &Film, path: &Path, cancel: &AtomicBool) -> Result<
         )
     };
     let mut layers = vec![layer("color", &color, &["R", "G", "B"])];
-    for p in film.planes() {
-        let names: &[&str] = match p.channels {
+    for p in film.aovs() {
+        let names: &[&str] = match p.channels() {
             1 => &["Y"],
             2 => &["U", "V"],
             3 => &["X", "Y", "Z"],
             _ => continue,
         };
-        layers.push(layer(&p.name, &p.data, names));
+        layers.push(layer(&p.aov.name(), &p.data, names));
     }
     let image = Image::from_layers(
         ImageAttributes::new(IntegerBounds::from_dimensions(size)),
@@ -95,10 +95,10 @@ pub fn save_exr_layers(film: &Film, path: &Path, cancel: &AtomicBool) -> Result<
 }
 
 /// The range of the finite values of channel `c` among the pixels `hit`.
-fn range(p: &Plane, c: usize, hit: &[bool]) -> (f32, f32) {
+fn range(p: &AovImage, c: usize, hit: &[bool]) -> (f32, f32) {
     let mut lo = f32::INFINITY;
     let mut hi = f32::NEG_INFINITY;
-    for (px, &h) in p.data.chunks(p.channels).zip(hit) {
+    for (px, &h) in p.data.chunks(p.channels()).zip(hit) {
         if h && px[c].is_finite() {
             lo = lo.min(px[c]);
             hi = hi.max(px[c]);
@@ -107,11 +107,11 @@ fn range(p: &Plane, c: usize, hit: &[bool]) -> (f32, f32) {
     if lo > hi { (0.0, 0.0) } else { (lo, hi) }
 }
 
-/// Writes each plane of `film` beside `picture` as an 8-bit image of the
+/// Writes each AOV of `film` beside `picture` as an 8-bit image of the
 /// picture's format (with its sidecar or legend); returns the files written.
 /// `table` names the primitives; `file` is the scene's file name; a file not
 /// yet in place when `cancel` is set is not written.
-pub fn save_pass_images(
+pub fn save_aov_images(
     film: &Film,
     picture: &Path,
     table: &PrimitiveTable,
@@ -125,19 +125,19 @@ pub fn save_pass_images(
         .unwrap_or_default();
     let hit = hit_mask(film);
     let (w, h) = (film.image().width(), film.image().height());
-    // The passes are mapped, encoded and written on every core, as the
+    // The AOVs are mapped, encoded and written on every core, as the
     // render's rows are (one after another, they left all cores but one idle).
     let each: Vec<Result<Vec<PathBuf>, SaveError>> = film
-        .planes()
+        .aovs()
         .par_iter()
         .map(|p| {
-            let (rgb, sidecar) = pass_image(p, &hit, table, file);
-            let path = pass_path(picture, &p.name, &ext);
+            let (rgb, sidecar) = aov_picture(p, &hit, table, file);
+            let path = aov_path(picture, &p.aov.name(), &ext);
             let bytes = encode_rgb8(w, h, rgb, format).map_err(|e| write_err(&path, e))?;
             write_atomically(&path, &bytes, cancel).map_err(|e| write_err(&path, e))?;
             let mut written = vec![path];
             if let Some(json) = sidecar {
-                let path = pass_path(picture, &p.name, "json");
+                let path = aov_path(picture, &p.aov.name(), "json");
                 write_atomically(&path, format!("{json:#}\n").as_bytes(), cancel)
                     .map_err(|e| write_err(&path, e))?;
                 written.push(path);
@@ -145,7 +145,7 @@ pub fn save_pass_images(
             Ok(written)
         })
         .collect();
-    // In the passes' order: their files, or the first pass's error.
+    // In the AOVs' order: their files, or the first one's error.
     let mut written = Vec::new();
     for files in each {
         written.extend(files?);
@@ -158,18 +158,18 @@ pub fn save_pass_images(
 pub(crate) fn hit_mask(film: &Film) -> Vec<bool> {
     let (w, h) = (film.image().width(), film.image().height());
     // The pixels whose centre ray hit something, from the primitive or depth plane.
-    match (film.plane("primitive"), film.plane("depth")) {
+    match (film.aov(Aov::Primitive), film.aov(Aov::Depth)) {
         (Some(p), _) => p.data.iter().map(|&v| v != -1.0).collect(),
         (None, Some(d)) => d.data.iter().map(|&v| v > 0.0).collect(),
         _ => vec![true; (w * h) as usize],
     }
 }
 
-/// Plane `p` of `film` as the 8-bit RGB picture `save_pass_images` writes
+/// AOV `p` of a film as the 8-bit RGB picture `save_aov_images` writes
 /// (the film's size, rows from the top), with its sidecar or legend (`hit`
 /// from [`hit_mask`]).
-pub(crate) fn pass_image(
-    p: &Plane,
+pub(crate) fn aov_picture(
+    p: &AovImage,
     hit: &[bool],
     table: &PrimitiveTable,
     file: Option<&str>,
@@ -177,8 +177,8 @@ pub(crate) fn pass_image(
     // Each pixel's three bytes, written in place (black where nothing was hit).
     let mut bytes = vec![0u8; hit.len() * 3];
     let pixels = bytes.chunks_exact_mut(3);
-    let sidecar = match p.name.as_str() {
-        "why" => {
+    let sidecar = match p.aov {
+        Aov::Why => {
             let mut legend = serde_json::Map::new();
             let mut seen = Seen::default();
             for (o, &v) in pixels.zip(&p.data) {
@@ -196,7 +196,7 @@ pub(crate) fn pass_image(
             }
             Some(serde_json::Value::Object(legend))
         }
-        "primitive" => {
+        Aov::Primitive => {
             let mut legend = serde_json::Map::new();
             let mut seen = Seen::default();
             for (o, &v) in pixels.zip(&p.data) {
@@ -210,15 +210,16 @@ pub(crate) fn pass_image(
             }
             Some(serde_json::Value::Object(legend))
         }
-        name => {
-            let scaled = matches!(name, "depth" | "position" | "rays" | "cost");
-            let last = p.channels - 1;
+        aov => {
+            let scaled = matches!(aov, Aov::Depth | Aov::Position | Aov::Rays | Aov::Cost);
+            let channels = p.channels();
+            let last = channels - 1;
             let hits = pixels
-                .zip(p.data.chunks_exact(p.channels))
+                .zip(p.data.chunks_exact(channels))
                 .zip(hit)
                 .filter(|(_, h)| **h);
             if scaled {
-                let ranges: Vec<(f32, f32)> = (0..p.channels).map(|c| range(p, c, hit)).collect();
+                let ranges: Vec<(f32, f32)> = (0..channels).map(|c| range(p, c, hit)).collect();
                 for ((o, v), _) in hits {
                     for (c, b) in o.iter_mut().enumerate() {
                         let ch = c.min(last);
@@ -237,7 +238,7 @@ pub(crate) fn pass_image(
                 }))
             } else {
                 // Normals as 0.5 + 0.5·n, the rest as they are.
-                let (base, gain) = if name == "normal" {
+                let (base, gain) = if aov == Aov::Normal {
                     (0.5, 0.5)
                 } else {
                     (0.0, 1.0)

@@ -6,6 +6,6 @@ mod atomic;
 mod layers;
 mod picture;
 
-pub use layers::{PrimitiveTable, pass_path, primitive_colour, save_exr_layers, save_pass_images};
-pub(crate) use layers::{hit_mask, pass_image};
+pub use layers::{PrimitiveTable, aov_path, primitive_colour, save_aov_images, save_exr_layers};
+pub(crate) use layers::{aov_picture, hit_mask};
 pub use picture::{Format, SaveError, encode_rgb8};

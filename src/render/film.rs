@@ -1,6 +1,7 @@
 //! The film: what a render produces for a region of the full frame, the
-//! colour and any named planes of f32 channels beside it.
+//! colour and any AOVs (f32 channels a pixel) beside it.
 
+use super::aov::Aov;
 use crate::image::Image;
 
 /// A rectangle of pixels of the full frame: columns `x..x + width`, rows
@@ -57,24 +58,29 @@ impl Region {
     }
 }
 
-/// A named plane of a film: `channels` f32 values per pixel, rows from the top.
+/// One AOV of a film: `aov.channels()` f32 values a pixel, rows from the top.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Plane {
-    /// Its name (`normal`, `depth`...).
-    pub name: String,
-    /// Values per pixel.
-    pub channels: usize,
-    /// `channels` × the region's pixels.
+pub struct AovImage {
+    /// Which AOV.
+    pub aov: Aov,
+    /// `aov.channels()` × the region's pixels.
     pub data: Vec<f32>,
 }
 
-/// A rendered region of a frame: its colour and named planes.
+impl AovImage {
+    /// Values a pixel.
+    pub fn channels(&self) -> usize {
+        self.aov.channels()
+    }
+}
+
+/// A rendered region of a frame: its colour and AOVs.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Film {
     frame: (u32, u32),
     region: Region,
     color: Image,
-    planes: Vec<Plane>,
+    aovs: Vec<AovImage>,
 }
 
 impl Film {
@@ -85,7 +91,7 @@ impl Film {
             frame,
             region,
             color,
-            planes: Vec::new(),
+            aovs: Vec::new(),
         }
     }
 
@@ -109,31 +115,27 @@ impl Film {
         self.color
     }
 
-    /// The named planes beside the colour, in the order they were added.
-    pub fn planes(&self) -> &[Plane] {
-        &self.planes
+    /// The AOVs beside the colour, in the order they were added.
+    pub fn aovs(&self) -> &[AovImage] {
+        &self.aovs
     }
 
-    /// The plane called `name`, if the film has one.
-    pub fn plane(&self, name: &str) -> Option<&Plane> {
-        self.planes.iter().find(|p| p.name == name)
+    /// Its image of `aov`, if the film has one.
+    pub fn aov(&self, aov: Aov) -> Option<&AovImage> {
+        self.aovs.iter().find(|p| p.aov == aov)
     }
 
-    /// Adds (or replaces) a plane; refused (false) unless its data holds
-    /// `channels` (at least 1) values for each of the region's pixels.
-    pub fn set_plane(&mut self, name: &str, channels: usize, data: Vec<f32>) -> bool {
-        let want = (self.region.area() as usize).checked_mul(channels);
-        if channels == 0 || want != Some(data.len()) {
+    /// Adds (or replaces) an AOV; refused (false) unless its data holds
+    /// `aov.channels()` values for each of the region's pixels.
+    pub fn set_aov(&mut self, aov: Aov, data: Vec<f32>) -> bool {
+        let want = (self.region.area() as usize).checked_mul(aov.channels());
+        if want != Some(data.len()) {
             return false;
         }
-        let plane = Plane {
-            name: name.to_string(),
-            channels,
-            data,
-        };
-        match self.planes.iter_mut().find(|p| p.name == name) {
-            Some(p) => *p = plane,
-            None => self.planes.push(plane),
+        let image = AovImage { aov, data };
+        match self.aovs.iter_mut().find(|p| p.aov == aov) {
+            Some(p) => *p = image,
+            None => self.aovs.push(image),
         }
         true
     }

@@ -42,7 +42,7 @@ pub(crate) use camera::basis;
 pub use error::RenderError;
 pub use estimate::{CameraKey, Driver, WorkEstimate};
 pub use explain::{Explanation, HitPointTerm, MAX_EXPLAINED_SPP, ProgressiveTerm, Sampling};
-pub use film::{Film, Plane, Region};
+pub use film::{AovImage, Film, Region};
 pub use options::{Checkpoint, Control, RenderOptions, Stage};
 pub use photons::PhotonStats;
 pub use renderer::Renderer;

@@ -201,7 +201,7 @@ impl Renderer {
         // In the order asked for.
         for &aov in &options.aovs {
             if let Some((_, data)) = planes.iter_mut().find(|(a, _)| *a == aov) {
-                film.set_plane(&aov.name(), aov.channels(), std::mem::take(data));
+                film.set_aov(aov, std::mem::take(data));
             }
         }
         let stats = RenderStats {

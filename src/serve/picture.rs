@@ -3,7 +3,7 @@
 //! request) and the legend of the primitives it shows.
 
 use crate::output::Format;
-use crate::render::{Film, Renderer};
+use crate::render::{Aov, Film, Renderer};
 use serde_json::{Value, json};
 use std::collections::BTreeSet;
 use std::sync::Arc;
@@ -48,7 +48,7 @@ impl Picture {
         let image = film.image();
         let (width, height) = (image.width(), image.height());
         let png = image.encode(Format::Png)?;
-        let values: Vec<i32> = match film.plane("primitive") {
+        let values: Vec<i32> = match film.aov(Aov::Primitive) {
             Some(p) => p.data.iter().map(|&v| v as i32).collect(),
             None => vec![-1; width as usize * height as usize],
         };

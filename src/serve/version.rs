@@ -346,7 +346,7 @@ fn passes_film(
 ) -> Option<Film> {
     let (w, h) = size?;
     let band = h.div_ceil(PASS_BANDS).max(1);
-    let mut planes: Vec<(String, usize, Vec<f32>)> = Vec::new();
+    let mut aovs: Vec<(Aov, Vec<f32>)> = Vec::new();
     let mut y = 0;
     while y < h {
         if control.cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
@@ -364,18 +364,18 @@ fn passes_film(
             ..options.clone()
         };
         let (film, _) = renderer.render_with(&part, control).ok()?;
-        for p in film.planes() {
-            match planes.iter_mut().find(|(n, _, _)| *n == p.name) {
-                Some((_, _, data)) => data.extend_from_slice(&p.data),
-                None => planes.push((p.name.clone(), p.channels, p.data.clone())),
+        for p in film.aovs() {
+            match aovs.iter_mut().find(|(a, _)| *a == p.aov) {
+                Some((_, data)) => data.extend_from_slice(&p.data),
+                None => aovs.push((p.aov, p.data.clone())),
             }
         }
         y += rows;
     }
     let black = crate::Image::from_pixels(w, h, vec![[0.0; 3]; w as usize * h as usize]);
     let mut film = Film::new((w, h), crate::Region::full(w, h), black);
-    for (name, channels, data) in planes {
-        film.set_plane(&name, channels, data);
+    for (aov, data) in aovs {
+        film.set_aov(aov, data);
     }
     Some(film)
 }
@@ -387,12 +387,12 @@ fn pass_pngs(renderer: &Renderer, film: &Film) -> Vec<(String, Arc<Vec<u8>>)> {
     let table = renderer.primitive_table();
     let file = renderer.scene_file();
     let (w, h) = (film.image().width(), film.image().height());
-    film.planes()
+    film.aovs()
         .iter()
         .filter_map(|p| {
-            let (rgb, _) = crate::output::pass_image(p, &hit, &table, file.as_deref());
+            let (rgb, _) = crate::output::aov_picture(p, &hit, &table, file.as_deref());
             let png = crate::output::encode_rgb8(w, h, rgb, Format::Png).ok()?;
-            Some((p.name.clone(), Arc::new(png)))
+            Some((p.aov.name().into_owned(), Arc::new(png)))
         })
         .collect()
 }
