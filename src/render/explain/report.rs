@@ -15,6 +15,14 @@ enum Child<'a> {
     Fan(&'a [RayNode]),
 }
 
+/// How an explanation is shown: the scene file its places name, and
+/// whether glossy fans and samples are listed ray by ray.
+#[derive(Clone, Copy)]
+struct Shown<'e> {
+    file: Option<&'e str>,
+    expand: bool,
+}
+
 /// A node's children, glossy fans grouped unless `expand`.
 fn children(node: &RayNode, expand: bool) -> Vec<Child<'_>> {
     let mut out = Vec::new();
@@ -65,237 +73,247 @@ fn kind_name(kind: RayKind) -> &'static str {
     }
 }
 
+/// A vector as a JSON array.
 fn v3(v: DVec3) -> Value {
     json!([v.x, v.y, v.z])
 }
 
-fn light_json(l: &LightTerm, file: Option<&str>) -> Value {
-    json!({
-        "light": l.light,
-        "type": l.kind,
-        "file": file,
-        "line": l.line,
-        "l_dot_n": l.l_dot_n,
-        "shade": format!("{}/{}", l.reached, l.rays),
-        "s": l.s,
-        "diffuse": l.diffuse,
-        "specular": l.specular,
-        "blocker": l.blocker.as_ref().map(|b| json!({
-            "primitive": b.primitive,
-            "light": b.light,
-            "type": b.kind,
+impl Shown<'_> {
+    /// A light's term at a hit, as JSON.
+    fn light_json(self, l: &LightTerm) -> Value {
+        let file = self.file;
+        json!({
+            "light": l.light,
+            "type": l.kind,
             "file": file,
-            "line": b.line,
-            "t": b.t,
-        })),
-    })
-}
-
-fn node_json(node: &RayNode, file: Option<&str>, expand: bool) -> Value {
-    let (k, n) = match node.kind {
-        RayKind::Glossy { k, n } => (Some(k), Some(n)),
-        _ => (None, None),
-    };
-    let kids: Vec<Value> = children(node, expand)
-        .into_iter()
-        .map(|c| match c {
-            Child::One(c) => node_json(c, file, expand),
-            Child::Fan(rays) => {
-                let (mean, spread, weight) = fan_stats(rays);
-                json!({
-                    "kind": "glossy_fan",
-                    "depth": rays[0].depth,
-                    "count": rays.len(),
-                    "mean": v3(mean),
-                    "spread": v3(spread),
-                    "weight": v3(weight),
-                })
-            }
+            "line": l.line,
+            "l_dot_n": l.l_dot_n,
+            "shade": format!("{}/{}", l.reached, l.rays),
+            "s": l.s,
+            "diffuse": l.diffuse,
+            "specular": l.specular,
+            "blocker": l.blocker.as_ref().map(|b| json!({
+                "primitive": b.primitive,
+                "light": b.light,
+                "type": b.kind,
+                "file": file,
+                "line": b.line,
+                "t": b.t,
+            })),
         })
-        .collect();
-    json!({
-        "kind": kind_name(node.kind),
-        "k": k,
-        "n": n,
-        "depth": node.depth,
-        "origin": v3(node.origin),
-        "direction": v3(node.direction),
-        "hit": node.hit.as_ref().map(|h| json!({
-            "primitive": h.primitive,
-            "light": h.light,
-            "type": h.kind,
-            "file": file,
-            "line": h.line,
-            "t": h.t,
-            "point": v3(h.point),
-            "normal": v3(h.normal),
-            "front": h.front,
-            "uv": [h.uv.x, h.uv.y],
-        })),
-        "material": node.material.map(|m| json!({
-            "color": v3(m.color),
-            "diff": m.diff,
-            "spec": m.spec,
-            "refl": m.refl,
-            "drefl": m.drefl,
-            "refr": m.refr,
-            "rindex": m.rindex,
-            "absor": v3(m.absor),
-            "texture": m.texture,
-        })),
-        "lights": node.lights.iter().map(|l| light_json(l, file)).collect::<Vec<_>>(),
-        "diffuse": node.lights.iter().map(|l| l.diffuse).sum::<f64>(),
-        "specular": node.lights.iter().map(|l| l.specular).sum::<f64>(),
-        "children": kids,
-        "cut": node.cut.iter().map(|&k| kind_name(k)).collect::<Vec<_>>(),
-        "photons": node.photons.as_ref().map(|p| json!({
-            "gathered": p.gathered,
-            "radius": p.radius,
-            "term": v3(p.term),
-        })),
-        "unclamped": node.unclamped.map(v3),
-        "clamped": node.unclamped.is_some_and(|u| u.max_element() > 1.0),
-        "weight": v3(node.weight),
-        "color": v3(node.color),
-    })
-}
-
-fn f(v: DVec3) -> String {
-    format!("({:.4}, {:.4}, {:.4})", v.x, v.y, v.z)
-}
-
-fn node_text(out: &mut String, node: &RayNode, indent: usize, file: Option<&str>, expand: bool) {
-    let pad = "  ".repeat(indent);
-    let kind = match node.kind {
-        RayKind::Glossy { k, n } => format!("glossy {k} of {n}"),
-        RayKind::TotalInternalReflection => "total internal reflection".to_string(),
-        k => format!("{} ray", kind_name(k)),
-    };
-    let weight = if node.kind == RayKind::Camera {
-        String::new()
-    } else {
-        format!("  weight {}", f(node.weight))
-    };
-    // Writing to a String cannot fail.
-    let _ = writeln!(
-        out,
-        "{pad}{kind}  depth {}  O {}  D {}{weight}",
-        node.depth,
-        f(node.origin),
-        f(node.direction)
-    );
-    match &node.hit {
-        None => {
-            let _ = writeln!(out, "{pad}  miss: background {}", f(node.color));
-        }
-        Some(h) => {
-            let _ = writeln!(
-                out,
-                "{pad}  hit {}  t {:.4}  {}  P {}  N {}  uv ({:.4}, {:.4})",
-                named(h, file),
-                h.t,
-                if h.front { "front" } else { "back" },
-                f(h.point),
-                f(h.normal),
-                h.uv.x,
-                h.uv.y
-            );
-        }
     }
-    if let Some(m) = node.material {
-        let _ = writeln!(
-            out,
-            "{pad}  material  color {}  diff {}  spec {}  refl {}  drefl {}  refr {}  rindex {}  absor {}{}",
-            f(m.color),
-            m.diff,
-            m.spec,
-            m.refl,
-            m.drefl,
-            m.refr,
-            m.rindex,
-            f(m.absor),
-            if m.texture.is_some() {
-                "  textured"
-            } else {
-                ""
-            }
-        );
-    }
-    for l in &node.lights {
-        let at = place(file, l.line);
-        let what = if l.l_dot_n <= 0.0 {
-            "-> faces away: no diffuse, no specular".to_string()
-        } else if l.s <= 0.0 {
-            match &l.blocker {
-                Some(b) => format!(
-                    "shade 0/{} -> blocked by {} #{} ({}) at t {:.4}",
-                    l.rays,
-                    b.kind,
-                    b.primitive.or(b.light).unwrap_or(0),
-                    place(file, b.line),
-                    b.t
-                ),
-                None => format!("shade 0/{} -> in shadow", l.rays),
-            }
-        } else {
-            format!(
-                "shade {}/{}  diffuse {:.4}  specular {:.4}",
-                l.reached, l.rays, l.diffuse, l.specular
-            )
+
+    /// A ray and its subtree, as JSON.
+    fn node_json(self, node: &RayNode) -> Value {
+        let file = self.file;
+        let (k, n) = match node.kind {
+            RayKind::Glossy { k, n } => (Some(k), Some(n)),
+            _ => (None, None),
         };
+        let kids: Vec<Value> = children(node, self.expand)
+            .into_iter()
+            .map(|c| match c {
+                Child::One(c) => self.node_json(c),
+                Child::Fan(rays) => {
+                    let (mean, spread, weight) = fan_stats(rays);
+                    json!({
+                        "kind": "glossy_fan",
+                        "depth": rays[0].depth,
+                        "count": rays.len(),
+                        "mean": v3(mean),
+                        "spread": v3(spread),
+                        "weight": v3(weight),
+                    })
+                }
+            })
+            .collect();
+        json!({
+            "kind": kind_name(node.kind),
+            "k": k,
+            "n": n,
+            "depth": node.depth,
+            "origin": v3(node.origin),
+            "direction": v3(node.direction),
+            "hit": node.hit.as_ref().map(|h| json!({
+                "primitive": h.primitive,
+                "light": h.light,
+                "type": h.kind,
+                "file": file,
+                "line": h.line,
+                "t": h.t,
+                "point": v3(h.point),
+                "normal": v3(h.normal),
+                "front": h.front,
+                "uv": [h.uv.x, h.uv.y],
+            })),
+            "material": node.material.map(|m| json!({
+                "color": v3(m.color),
+                "diff": m.diff,
+                "spec": m.spec,
+                "refl": m.refl,
+                "drefl": m.drefl,
+                "refr": m.refr,
+                "rindex": m.rindex,
+                "absor": v3(m.absor),
+                "texture": m.texture,
+            })),
+            "lights": node.lights.iter().map(|l| self.light_json(l)).collect::<Vec<_>>(),
+            "diffuse": node.lights.iter().map(|l| l.diffuse).sum::<f64>(),
+            "specular": node.lights.iter().map(|l| l.specular).sum::<f64>(),
+            "children": kids,
+            "cut": node.cut.iter().map(|&k| kind_name(k)).collect::<Vec<_>>(),
+            "photons": node.photons.as_ref().map(|p| json!({
+                "gathered": p.gathered,
+                "radius": p.radius,
+                "term": v3(p.term),
+            })),
+            "unclamped": node.unclamped.map(v3),
+            "clamped": node.unclamped.is_some_and(|u| u.max_element() > 1.0),
+            "weight": v3(node.weight),
+            "color": v3(node.color),
+        })
+    }
+
+    /// A ray and its subtree, as text indented `indent` levels, into `out`.
+    fn node_text(self, out: &mut String, node: &RayNode, indent: usize) {
+        let file = self.file;
+        let pad = "  ".repeat(indent);
+        let kind = match node.kind {
+            RayKind::Glossy { k, n } => format!("glossy {k} of {n}"),
+            RayKind::TotalInternalReflection => "total internal reflection".to_string(),
+            k => format!("{} ray", kind_name(k)),
+        };
+        let weight = if node.kind == RayKind::Camera {
+            String::new()
+        } else {
+            format!("  weight {}", f(node.weight))
+        };
+        // Writing to a String cannot fail.
         let _ = writeln!(
             out,
-            "{pad}  light #{} {}  {at}  L·N {:.4}  {what}",
-            l.light, l.kind, l.l_dot_n
+            "{pad}{kind}  depth {}  O {}  D {}{weight}",
+            node.depth,
+            f(node.origin),
+            f(node.direction)
         );
-    }
-    for c in children(node, expand) {
-        match c {
-            Child::One(c) => node_text(out, c, indent + 1, file, expand),
-            Child::Fan(rays) => {
-                let (mean, spread, weight) = fan_stats(rays);
+        match &node.hit {
+            None => {
+                let _ = writeln!(out, "{pad}  miss: background {}", f(node.color));
+            }
+            Some(h) => {
                 let _ = writeln!(
                     out,
-                    "{pad}  glossy fan  depth {}  {} rays  mean {}  spread {}  weight {}  (--expand lists them)",
-                    rays[0].depth,
-                    rays.len(),
-                    f(mean),
-                    f(spread),
-                    f(weight)
+                    "{pad}  hit {}  t {:.4}  {}  P {}  N {}  uv ({:.4}, {:.4})",
+                    named(h, file),
+                    h.t,
+                    if h.front { "front" } else { "back" },
+                    f(h.point),
+                    f(h.normal),
+                    h.uv.x,
+                    h.uv.y
                 );
             }
         }
+        if let Some(m) = node.material {
+            let _ = writeln!(
+                out,
+                "{pad}  material  color {}  diff {}  spec {}  refl {}  drefl {}  refr {}  rindex {}  absor {}{}",
+                f(m.color),
+                m.diff,
+                m.spec,
+                m.refl,
+                m.drefl,
+                m.refr,
+                m.rindex,
+                f(m.absor),
+                if m.texture.is_some() {
+                    "  textured"
+                } else {
+                    ""
+                }
+            );
+        }
+        for l in &node.lights {
+            let at = place(file, l.line);
+            let what = if l.l_dot_n <= 0.0 {
+                "-> faces away: no diffuse, no specular".to_string()
+            } else if l.s <= 0.0 {
+                match &l.blocker {
+                    Some(b) => format!(
+                        "shade 0/{} -> blocked by {} #{} ({}) at t {:.4}",
+                        l.rays,
+                        b.kind,
+                        b.primitive.or(b.light).unwrap_or(0),
+                        place(file, b.line),
+                        b.t
+                    ),
+                    None => format!("shade 0/{} -> in shadow", l.rays),
+                }
+            } else {
+                format!(
+                    "shade {}/{}  diffuse {:.4}  specular {:.4}",
+                    l.reached, l.rays, l.diffuse, l.specular
+                )
+            };
+            let _ = writeln!(
+                out,
+                "{pad}  light #{} {}  {at}  L·N {:.4}  {what}",
+                l.light, l.kind, l.l_dot_n
+            );
+        }
+        for c in children(node, self.expand) {
+            match c {
+                Child::One(c) => self.node_text(out, c, indent + 1),
+                Child::Fan(rays) => {
+                    let (mean, spread, weight) = fan_stats(rays);
+                    let _ = writeln!(
+                        out,
+                        "{pad}  glossy fan  depth {}  {} rays  mean {}  spread {}  weight {}  (--expand lists them)",
+                        rays[0].depth,
+                        rays.len(),
+                        f(mean),
+                        f(spread),
+                        f(weight)
+                    );
+                }
+            }
+        }
+        for k in &node.cut {
+            let _ = writeln!(
+                out,
+                "{pad}  {} ray not traced: depth limit 10",
+                kind_name(*k)
+            );
+        }
+        if let Some(p) = &node.photons {
+            let none = if p.gathered < 8 {
+                " (fewer than 8: no estimate)"
+            } else {
+                ""
+            };
+            let _ = writeln!(
+                out,
+                "{pad}  photons: {} gathered within r = {:.4}{none}, adding {}",
+                p.gathered,
+                p.radius,
+                f(p.term)
+            );
+        }
+        if let Some(u) = node.unclamped {
+            let clamp = if u.max_element() > 1.0 {
+                "  clamped to 1"
+            } else {
+                ""
+            };
+            let _ = writeln!(out, "{pad}  sum {}{clamp}", f(u));
+        }
+        let _ = writeln!(out, "{pad}  = {}", f(node.color));
     }
-    for k in &node.cut {
-        let _ = writeln!(
-            out,
-            "{pad}  {} ray not traced: depth limit 10",
-            kind_name(*k)
-        );
-    }
-    if let Some(p) = &node.photons {
-        let none = if p.gathered < 8 {
-            " (fewer than 8: no estimate)"
-        } else {
-            ""
-        };
-        let _ = writeln!(
-            out,
-            "{pad}  photons: {} gathered within r = {:.4}{none}, adding {}",
-            p.gathered,
-            p.radius,
-            f(p.term)
-        );
-    }
-    if let Some(u) = node.unclamped {
-        let clamp = if u.max_element() > 1.0 {
-            "  clamped to 1"
-        } else {
-            ""
-        };
-        let _ = writeln!(out, "{pad}  sum {}{clamp}", f(u));
-    }
-    let _ = writeln!(out, "{pad}  = {}", f(node.color));
+}
+
+/// A vector as the text report shows it.
+fn f(v: DVec3) -> String {
+    format!("({:.4}, {:.4}, {:.4})", v.x, v.y, v.z)
 }
 
 impl Explanation {
@@ -319,7 +337,10 @@ impl Explanation {
     /// The explanation as text: the first sample's tree (every sample's with
     /// `expand`), the bytes and the verdict.
     pub fn to_text(&self, expand: bool) -> String {
-        let file = self.file.as_deref();
+        let shown_as = Shown {
+            file: self.file.as_deref(),
+            expand,
+        };
         let [r, g, b] = self.bytes;
         let c = self.color;
         let mut out = format!(
@@ -336,7 +357,7 @@ impl Explanation {
             if self.samples.len() > 1 {
                 let _ = writeln!(out, "sample {} of {}:", i + 1, self.samples.len());
             }
-            node_text(&mut out, s, 0, file, expand);
+            shown_as.node_text(&mut out, s, 0);
         }
         if shown < self.samples.len() {
             let _ = writeln!(
@@ -355,6 +376,7 @@ impl Explanation {
     /// The explanation as one JSON object (no non-finite number: those are `null`).
     pub fn to_json(&self, expand: bool) -> String {
         let file = self.file.as_deref();
+        let shown = Shown { file, expand };
         let (mode, refined, spp) = match self.sampling {
             Sampling::Adaptive { refined } => ("adaptive", Some(refined), None),
             Sampling::Stratified(n) => ("stratified", None, Some(n)),
@@ -367,7 +389,7 @@ impl Explanation {
             "color": [c[0], c[1], c[2]],
             "sampling": {"mode": mode, "refined": refined, "spp": spp},
             "file": file,
-            "samples": self.samples.iter().map(|s| node_json(s, file, expand)).collect::<Vec<_>>(),
+            "samples": self.samples.iter().map(|s| shown.node_json(s)).collect::<Vec<_>>(),
             "progressive": self.progressive.as_ref().map(|p| json!({
                 "algorithm": p.algorithm.name(),
                 "iterations": p.iterations,
@@ -390,7 +412,6 @@ impl Explanation {
 /// PPM's or SPPM's photon term of a pixel, as text: its hit points and
 /// what each adds to the ray-traced part.
 fn progressive_text(out: &mut String, p: &ProgressiveTerm) {
-    let f = |v: DVec3| format!("({:.4}, {:.4}, {:.4})", v.x, v.y, v.z);
     let direct = DVec3::from(p.direct.map(f64::from));
     let _ = writeln!(
         out,
