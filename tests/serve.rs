@@ -1,6 +1,6 @@
 //! `glint serve` over HTTP: the token, refused and odd requests, many
 //! clients at once, a save cancelling a render, a broken file and its fix,
-//! explain, passes, watched textures, the comparison. Each test starts the
+//! explain, AOVs, watched textures, the comparison. Each test starts the
 //! real binary on a scene written to a temporary folder.
 
 #[path = "serve_support/mod.rs"]
@@ -86,7 +86,7 @@ fn every_request_needs_the_token_and_only_the_scenes_files_are_served() {
         "/api/file/1",
         "/api/file/99999999999999999999",
         "/etc/passwd",
-        "/api/pass/nope.png",
+        "/api/aov/nope.png",
     ] {
         let r = raw(&format!("{path}{tok}"));
         assert!(r.status == 404 || r.status == 400, "{path}: {}", r.status);
@@ -377,8 +377,8 @@ fn explain_is_glint_explains_json_and_its_rays_start_at_the_pixel() {
 }
 
 #[test]
-fn passes_ids_and_a_watched_texture() {
-    let dir = temp_dir("passes");
+fn aovs_ids_and_a_watched_texture() {
+    let dir = temp_dir("aovs");
     let scene = dir.join("scene.txt");
     let tex = dir.join("t.bmp");
     image::RgbImage::from_pixel(2, 2, image::Rgb([255, 0, 0]))
@@ -400,21 +400,21 @@ fn passes_ids_and_a_watched_texture() {
         s.get("/api/file/1").body,
         std::fs::read(&tex).expect("read")
     );
-    let passes: Vec<&str> = st["passes"]
+    let aovs: Vec<&str> = st["aovs"]
         .as_array()
         .into_iter()
         .flatten()
         .filter_map(|p| p.as_str())
         .collect();
     for p in ["normal", "depth", "primitive", "albedo", "why", "light:0"] {
-        assert!(passes.contains(&p), "{p} in {passes:?}");
+        assert!(aovs.contains(&p), "{p} in {aovs:?}");
     }
     for p in ["normal", "light-0", "light:0", "why"] {
-        let r = s.get(&format!("/api/pass/{p}.png"));
+        let r = s.get(&format!("/api/aov/{p}.png"));
         assert_eq!(r.status, 200, "{p}");
         assert_eq!(&r.body[1..4], b"PNG");
     }
-    // The passes (rendered in bands) are glint render --aov's pictures.
+    // The AOVs (rendered in bands) are glint render --aov's pictures.
     let out = dir.join("out.png");
     let rendered = std::process::Command::new(env!("CARGO_BIN_EXE_glint"))
         .args([
@@ -432,11 +432,11 @@ fn passes_ids_and_a_watched_texture() {
         .expect("glint render");
     assert!(rendered.success());
     for p in ["normal", "depth", "why", "light-0", "primitive"] {
-        let ours = image::load_from_memory(&s.get(&format!("/api/pass/{p}.png")).body)
+        let ours = image::load_from_memory(&s.get(&format!("/api/aov/{p}.png")).body)
             .expect("png")
             .to_rgb8();
         let theirs = image::open(dir.join(format!("out.{p}.png")))
-            .expect("pass file")
+            .expect("AOV file")
             .to_rgb8();
         assert!(ours == theirs, "{p} differs from glint render --aov's");
     }

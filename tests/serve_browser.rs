@@ -3,7 +3,7 @@
 //! for the picture, hovers and clicks a pixel of the sphere (its
 //! `file:line` and its ray tree must show), saves a change (the new picture
 //! must come), saves a broken file (its diagnostic with the line must show,
-//! the picture stay), fixes it, switches to a pass, takes a screenshot
+//! the picture stay), fixes it, switches to an AOV, takes a screenshot
 //! (not blank), compares with a picture of "their own" on the slider
 //! (the summary must name the sphere), and checks that the page threw no
 //! JavaScript error. With
@@ -421,18 +421,18 @@ fn the_page_in_a_real_browser() {
         "glint.last.version === 4 && glint.last.stage === 'final' && document.getElementById('diagnostics-box').hidden",
     );
 
-    // A pass.
-    cdp.wait("the passes", "document.querySelector('[data-view=normal]')");
+    // An AOV.
+    cdp.wait("the AOVs", "document.querySelector('[data-view=normal]')");
     cdp.eval("document.querySelector('[data-view=normal]').click()");
     cdp.wait(
-        "the normal pass",
-        "(() => { const i = document.getElementById('pass'); return !i.hidden && i.complete && i.naturalWidth === 320; })()",
+        "the normal AOV",
+        "(() => { const i = document.getElementById('aov'); return !i.hidden && i.complete && i.naturalWidth === 320; })()",
     );
     cdp.eval("document.querySelector('[data-view=picture]').click()");
-    let pass_display = cdp.eval("getComputedStyle(document.getElementById('pass')).display");
+    let aov_display = cdp.eval("getComputedStyle(document.getElementById('aov')).display");
     assert_eq!(
-        pass_display, "none",
-        "the picture is shown again, not the pass"
+        aov_display, "none",
+        "the picture is shown again, not the AOV"
     );
 
     let (png, img) = cdp.screenshot();
@@ -508,7 +508,7 @@ fn the_page_in_a_real_browser() {
                 s["final"].as_f64().unwrap_or(0.0) - saved,
             ));
         }
-        // Its passes would share the cores with the render timed here.
+        // Its AOVs would share the cores with the render timed here.
         no_page_errors(&mut cdp);
         cdp.call("Page.navigate", json!({"url": "about:blank"}));
         drop(served1);

@@ -1,7 +1,7 @@
 //! `glint serve`: a local web page that shows the scene's picture and
 //! renders it again on every save of the scene file or of a texture or
 //! mesh it uses (a coarse preview at once, then the full image, then the
-//! passes), with the pixel under the pointer explained. The page, its
+//! AOVs), with the pixel under the pointer explained. The page, its
 //! script and style are built in; the API it uses is documented in
 //! `docs/serve.md`. Every request must carry the random token of the URL.
 
@@ -37,7 +37,7 @@ pub struct ServeOptions {
     pub bind: IpAddr,
     /// The port (0: a free one).
     pub port: u16,
-    /// How to render (sizes, samples, seed, threads); its passes and region are not used.
+    /// How to render (sizes, samples, seed, threads); its AOVs and region are not used.
     pub render: RenderOptions,
     /// The lineage to read the file as (`None`: by its markers).
     pub dialect: Option<Dialect>,

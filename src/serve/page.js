@@ -1,6 +1,6 @@
 // glint serve's page: the picture (pushed over server-sent events), what is
 // under the pointer (from the frame's id buffer, no request), a pixel's
-// explain tree and rays on click, the passes, the comparison slider.
+// explain tree and rays on click, the AOVs, the comparison slider.
 'use strict';
 (function () {
   const token = document.body.dataset.token;
@@ -60,7 +60,7 @@
 
   function showViews(s) {
     const nav = $('views');
-    const names = ['picture'].concat(s.passes || []);
+    const names = ['picture'].concat(s.aovs || []);
     if (s.compare && !s.compare.error) names.push('heat');
     const have = Array.from(nav.children).map((b) => b.dataset.view).join(',');
     if (have !== names.join(',')) {
@@ -78,11 +78,11 @@
 
   function setView(name) {
     g.view = name;
-    const img = $('pass');
+    const img = $('aov');
     if (name === 'picture') {
       img.hidden = true;
     } else {
-      const path = name === 'heat' ? '/api/heat.png' : '/api/pass/' + name.replace(':', '-') + '.png';
+      const path = name === 'heat' ? '/api/heat.png' : '/api/aov/' + name.replace(':', '-') + '.png';
       img.src = api(path + '?v=' + (g.state ? g.state.good_version : 0));
       img.hidden = false;
     }

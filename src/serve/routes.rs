@@ -101,10 +101,10 @@ pub(crate) fn route(shared: &Shared, token: &str, path: &str, query: &[(String, 
         },
         _ => {
             if let Some(name) = path
-                .strip_prefix("/api/pass/")
+                .strip_prefix("/api/aov/")
                 .and_then(|n| n.strip_suffix(".png"))
             {
-                return pass(shared, name);
+                return aov_png(shared, name);
             }
             if let Some(index) = path.strip_prefix("/api/file/") {
                 return file(shared, index);
@@ -138,16 +138,16 @@ fn picture_part(shared: &Shared, ids: bool, query: &[(String, String)]) -> Reply
     }
 }
 
-/// A pass of the last good version as PNG (`light:0` may be written `light-0`).
-fn pass(shared: &Shared, name: &str) -> Reply {
+/// An AOV of the last good version as PNG (`light:0` may be written `light-0`).
+fn aov_png(shared: &Shared, name: &str) -> Reply {
     let s = shared.lock();
     let found = s
-        .passes
+        .aovs
         .iter()
         .find(|(n, _)| n == name || n.replace(':', "-") == name);
     match found {
         Some((_, png)) => Reply::Done(200, "image/png", Body::Shared(png.clone())),
-        None => text(404, "no such pass (yet): see `passes` in /api/state"),
+        None => text(404, "no such AOV (yet): see `aovs` in /api/state"),
     }
 }
 

@@ -1,7 +1,7 @@
 //! What the server knows now, shared by the render worker (which writes
 //! it) and the request handlers (which read it): the scene's version, the
 //! diagnostics, the stage and progress of the render, the latest picture,
-//! the last good renderer with its passes and comparison.
+//! the last good renderer with its AOVs and comparison.
 
 use super::events::Events;
 use super::picture::Picture;
@@ -22,8 +22,8 @@ pub(crate) enum Phase {
     Coarse,
     /// Rendering the full image.
     Final,
-    /// Rendering the passes.
-    Passes,
+    /// Rendering the AOVs.
+    Aovs,
     /// Comparing with their picture.
     Compare,
     /// Done: everything of this version is there.
@@ -39,7 +39,7 @@ impl Phase {
             Phase::Reading => "reading",
             Phase::Coarse => "coarse",
             Phase::Final => "final",
-            Phase::Passes => "passes",
+            Phase::Aovs => "aovs",
             Phase::Compare => "compare",
             Phase::Idle => "idle",
             Phase::Broken => "broken",
@@ -50,7 +50,7 @@ impl Phase {
     pub fn rendering(self) -> bool {
         matches!(
             self,
-            Phase::Reading | Phase::Coarse | Phase::Final | Phase::Passes | Phase::Compare
+            Phase::Reading | Phase::Coarse | Phase::Final | Phase::Aovs | Phase::Compare
         )
     }
 }
@@ -79,8 +79,8 @@ pub(crate) struct State {
     pub picture: Option<Arc<Picture>>,
     /// The last good scene, prepared, for `explain`.
     pub renderer: Option<Arc<Renderer>>,
-    /// The passes of the last good version, as PNG, by name.
-    pub passes: Vec<(String, Arc<Vec<u8>>)>,
+    /// The AOVs of the last good version, as PNG, by name.
+    pub aovs: Vec<(String, Arc<Vec<u8>>)>,
     /// The comparison with their picture, when asked for.
     pub compare: Option<Compared>,
     /// The files the page may fetch: the scene file, then what it read.
@@ -118,7 +118,7 @@ impl Shared {
                 diagnostics: Vec::new(),
                 picture: None,
                 renderer: None,
-                passes: Vec::new(),
+                aovs: Vec::new(),
                 compare: None,
                 files: vec![scene.clone()],
                 timings: Vec::new(),
@@ -190,7 +190,7 @@ pub(crate) fn state_json(s: &State, shared: &Shared) -> Value {
         "errors": s.diagnostics.iter().filter(|d| d.severity == Severity::Error).count(),
         "diagnostics": s.diagnostics.iter().map(diagnostic_json).collect::<Vec<_>>(),
         "frame": s.picture.as_ref().map(|p| p.summary()),
-        "passes": s.passes.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>(),
+        "aovs": s.aovs.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>(),
         "compare": s.compare.as_ref().map(|c| &c.summary),
         "theirs": shared.theirs.is_some(),
         "files": s.files.iter().enumerate().map(|(i, p)| json!({"index": i, "path": p.display().to_string()})).collect::<Vec<_>>(),

@@ -1,6 +1,6 @@
 //! One version of the scene, stage by stage: the file read (or its errors
 //! shown, the last good picture left in place), the picture (a coarse
-//! preview, then the full image), the passes, the comparison. Each stage
+//! preview, then the full image), the AOVs, the comparison. Each stage
 //! publishes what it made as soon as it is ready, and a set cancel flag
 //! (the next save) stops the version between and inside stages.
 
@@ -17,14 +17,14 @@ use std::time::{Duration, Instant};
 
 /// How often progress is announced at most.
 const PROGRESS_EVERY: Duration = Duration::from_millis(100);
-/// Light passes (`light:N`) offered at most.
-const MAX_LIGHT_PASSES: usize = 8;
+/// Light AOVs (`light:N`) offered at most.
+const MAX_LIGHT_AOVS: usize = 8;
 /// Rays the coarse preview may take, by [`Renderer::estimate`]: about
 /// 50 ms on two cores, so that it comes at once.
 const COARSE_RAYS: u64 = 1_000_000;
-/// Bands the passes are rendered in: the passes' planes are made without
+/// Bands the AOVs are rendered in: the AOVs are made without
 /// a look at the cancel flag, so a save waits for one band at most.
-const PASS_BANDS: u32 = 64;
+const AOV_BANDS: u32 = 64;
 
 /// One version's render: what each of its stages needs.
 pub(crate) struct Version<'a> {
@@ -40,7 +40,7 @@ pub(crate) struct Version<'a> {
 
 impl Version<'_> {
     /// Reads and renders the version as read as `dialect`, watching what
-    /// it reads in `watch`, then renders its picture, its passes and the
+    /// it reads in `watch`, then renders its picture, its AOVs and the
     /// comparison with `theirs`; returns early when cancelled.
     pub fn render(
         &self,
@@ -74,7 +74,7 @@ impl Version<'_> {
             Some(_) => Phase::Compare,
             None => Phase::Idle,
         };
-        if !self.passes(&renderer, &options, size, control, then) {
+        if !self.aovs(&renderer, &options, size, control, then) {
             return;
         }
         if let Some(theirs) = theirs {
@@ -190,7 +190,7 @@ impl Version<'_> {
     ) {
         let (name, next) = match stage {
             Stage::Coarse => ("coarse", Phase::Final),
-            Stage::Final => ("final", Phase::Passes),
+            Stage::Final => ("final", Phase::Aovs),
         };
         let id = self.shared.next_picture_id();
         let full = size.unwrap_or(film.frame_size());
@@ -201,7 +201,7 @@ impl Version<'_> {
         let summary = picture.summary().to_string();
         self.shared.update(|s| {
             if stage == Stage::Coarse {
-                s.passes.clear();
+                s.aovs.clear();
                 s.compare = None;
             }
             s.picture = Some(picture);
@@ -214,13 +214,13 @@ impl Version<'_> {
         self.shared.events.send("frame", &summary);
     }
 
-    /// Renders the passes of the picture (of `size`) and publishes them as
+    /// Renders the AOVs of the picture (of `size`) and publishes them as
     /// PNG, the phase going on to `then`; false when cancelled.
     ///
     /// They are a render of their own, so that the picture came first;
     /// they are all of the centre ray, so its colour is rendered at one
     /// ray a pixel (which is why `rays`, the render's count, is not offered).
-    fn passes(
+    fn aovs(
         &self,
         renderer: &Renderer,
         options: &RenderOptions,
@@ -228,22 +228,22 @@ impl Version<'_> {
         control: Control<'_>,
         then: Phase,
     ) -> bool {
-        let pass_options = RenderOptions {
-            aovs: pass_list(renderer.scene().lights().len()),
+        let aov_options = RenderOptions {
+            aovs: aov_list(renderer.scene().lights().len()),
             spp: Some(1),
             ..options.clone()
         };
-        let Some(film) = passes_film(renderer, &pass_options, size, control) else {
+        let Some(film) = aovs_film(renderer, &aov_options, size, control) else {
             return false;
         };
-        let passes = pass_pngs(renderer, &film);
+        let aovs = aov_pngs(renderer, &film);
         if self.cancelled() {
             return false;
         }
         self.shared.update(|s| {
-            s.passes = passes;
+            s.aovs = aovs;
             s.phase = then;
-            s.timings.push(("passes", self.ms()));
+            s.timings.push(("aovs", self.ms()));
         });
         true
     }
@@ -317,8 +317,8 @@ fn coarse_options(renderer: &Renderer, options: &RenderOptions) -> Option<Render
         .or_else(|| Some(at(16)))
 }
 
-/// The passes offered for a scene with `lights` lights.
-fn pass_list(lights: usize) -> Vec<Aov> {
+/// The AOVs offered for a scene with `lights` lights.
+fn aov_list(lights: usize) -> Vec<Aov> {
     let mut list = vec![
         Aov::Primitive,
         Aov::Normal,
@@ -331,21 +331,21 @@ fn pass_list(lights: usize) -> Vec<Aov> {
         Aov::Clamp,
         Aov::Cost,
     ];
-    list.extend((0..lights.min(MAX_LIGHT_PASSES) as u32).map(Aov::Light));
+    list.extend((0..lights.min(MAX_LIGHT_AOVS) as u32).map(Aov::Light));
     list
 }
 
-/// The passes of the whole frame (of `size`), rendered band by band,
+/// The AOVs of the whole frame (of `size`), rendered band by band,
 /// stitched into one film (whose colour is left black: only the planes are
 /// used); `None` when cancelled or when the size is out of range.
-fn passes_film(
+fn aovs_film(
     renderer: &Renderer,
     options: &RenderOptions,
     size: Option<(u32, u32)>,
     control: Control<'_>,
 ) -> Option<Film> {
     let (w, h) = size?;
-    let band = h.div_ceil(PASS_BANDS).max(1);
+    let band = h.div_ceil(AOV_BANDS).max(1);
     let mut aovs: Vec<(Aov, Vec<f32>)> = Vec::new();
     let mut y = 0;
     while y < h {
@@ -380,9 +380,9 @@ fn passes_film(
     Some(film)
 }
 
-/// Every pass of `film` (rendered by `renderer`) as PNG, by name, drawn as
-/// `glint render --passes` draws them.
-fn pass_pngs(renderer: &Renderer, film: &Film) -> Vec<(String, Arc<Vec<u8>>)> {
+/// Every AOV of `film` (rendered by `renderer`) as PNG, by name, drawn as
+/// `glint render --aov` draws them.
+fn aov_pngs(renderer: &Renderer, film: &Film) -> Vec<(String, Arc<Vec<u8>>)> {
     let hit = crate::output::hit_mask(film);
     let table = renderer.primitive_table();
     let file = renderer.scene_file();

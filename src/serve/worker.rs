@@ -1,7 +1,7 @@
 //! What a save sets off. A watcher thread polls the scene file and every
 //! file it read; on a change it cancels the running render at once and
 //! wakes the worker, which reads the scene again and renders it in stages
-//! (coarse preview, full image, passes, comparison: see [`Version`]),
+//! (coarse preview, full image, AOVs, comparison: see [`Version`]),
 //! publishing each as it is ready. A broken file leaves the last good
 //! picture in place.
 
