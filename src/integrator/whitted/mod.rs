@@ -19,7 +19,7 @@ mod refracted;
 mod surface;
 
 use super::model::Model;
-use super::observer::{PathObserver, RayKind};
+use super::observer::{PathObserver, RayKind, SurfaceSeen};
 use super::path::{PathState, SceneAccel};
 use super::photons::PhotonMap;
 use super::visibility::ShadowHints;
@@ -197,8 +197,15 @@ impl<'a> Whitted<'a> {
         if let Some(light) = object.light() {
             return self.emitted(light, object.shape(), ray, &hit, cx.obs);
         }
-        let p = self.surface_point(index, ray, &hit, cx.obs);
+        let p = self.surface_point((index, object), ray, &hit);
         let m = &p.material;
+        cx.obs.surface(&SurfaceSeen {
+            origin: object.origin(),
+            shape: object.shape(),
+            ray,
+            hit: &hit,
+            material: m,
+        });
         let mut color = DVec3::ZERO;
         if m.diff > 0.0 || (m.spec > 0.0 && model.lit_by_specular) {
             let k = model.albedo(m, scene.textures(), p.uv);

@@ -4,8 +4,7 @@
 
 use super::Whitted;
 use crate::geometry::{Hit, Ray};
-use crate::integrator::observer::{PathObserver, SurfaceSeen};
-use crate::scene::Material;
+use crate::scene::{Material, Object};
 use glam::{DVec2, DVec3};
 
 /// A lit surface's point, as the shading terms read it.
@@ -29,17 +28,15 @@ pub(super) struct ShadingPoint {
 }
 
 impl Whitted<'_> {
-    /// The point where `ray` hit object `index` at `hit`, told to `obs`.
+    /// The point where `ray` hit `object` (index `index`) at `hit`.
     #[inline(always)]
-    pub(super) fn surface_point<O: PathObserver>(
+    pub(super) fn surface_point(
         &self,
-        index: u32,
+        (index, object): (u32, &Object),
         ray: &Ray,
         hit: &Hit,
-        obs: &mut O,
     ) -> ShadingPoint {
         let scene = self.scene;
-        let object = &self.accel.objects()[index as usize];
         let m = scene.material_of(object);
         let shape = object.shape();
         let mut surface = if m.texture.is_some() || m.normal_map.is_some() {
@@ -56,13 +53,6 @@ impl Whitted<'_> {
         } else {
             (-surface.normal, -surface.shading_normal)
         };
-        obs.surface(&SurfaceSeen {
-            origin: object.origin(),
-            shape,
-            ray,
-            hit,
-            material: &m,
-        });
         ShadingPoint {
             object: index,
             material: m,
