@@ -58,6 +58,36 @@ impl Region {
     }
 }
 
+impl std::str::FromStr for Region {
+    type Err = String;
+
+    /// `X0,Y0,X1,Y1`: columns X0..X1 and rows Y0..Y1, ends excluded (`--region`).
+    fn from_str(s: &str) -> Result<Region, String> {
+        let n: Vec<u32> = s
+            .split(',')
+            .map(|v| {
+                v.trim()
+                    .parse::<u32>()
+                    .map_err(|e| format!("`{}` is not a pixel coordinate: {e}", v.trim()))
+            })
+            .collect::<Result<_, _>>()?;
+        let [x0, y0, x1, y1] = n[..] else {
+            return Err("expected `X0,Y0,X1,Y1`, e.g. `--region 0,0,64,48`".to_string());
+        };
+        if x1 <= x0 || y1 <= y0 {
+            return Err(format!(
+                "the region is empty: X1 must exceed X0 and Y1 exceed Y0 (got {s})"
+            ));
+        }
+        Ok(Region {
+            x: x0,
+            y: y0,
+            width: x1 - x0,
+            height: y1 - y0,
+        })
+    }
+}
+
 /// One AOV of a film: `aov.channels()` f32 values a pixel, rows from the top.
 #[derive(Clone, Debug, PartialEq)]
 pub struct AovImage {

@@ -62,6 +62,21 @@ impl Dialect {
     }
 }
 
+impl std::str::FromStr for Dialect {
+    type Err = String;
+
+    /// `--dialect NAME`: [`Dialect::from_name`], or a message listing the names.
+    fn from_str(s: &str) -> Result<Dialect, String> {
+        Dialect::from_name(s).ok_or_else(|| {
+            let names: Vec<&str> = Dialect::ALL.iter().map(|d| d.name()).collect();
+            format!(
+                "unknown dialect `{s}`: expected one of {}",
+                names.join(", ")
+            )
+        })
+    }
+}
+
 impl fmt::Display for Dialect {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.name())
