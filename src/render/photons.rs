@@ -112,7 +112,6 @@ pub(crate) fn progressive(
     watch: &Watch,
     each: &mut dyn FnMut(u64, &[[f32; 3]]),
 ) -> Result<Progressed, Unfinished> {
-    let model = *p.frame.integrator.model();
     let plan = p.plan;
     let total = plan.iterations;
     let pixels = region.area() as usize;
@@ -121,73 +120,145 @@ pub(crate) fn progressive(
         ..PhotonStats::default()
     };
     let mut rays = RayCounts::default();
-    // PPM: the direct light once, and its hit points (the pixels' centres).
     let (direct, mut points) = if plan.mode == PhotonMode::Ppm {
-        let quiet = Watch {
-            progress: &|_, _| {},
-            cancel: watch.cancel,
-        };
-        let done = render_region(p.frame, region, spp, Keep::default(), &quiet)
-            .ok_or(Unfinished::Cancelled)?;
-        rays.add(&done.rays);
-        // The hit points of the samples the picture takes: with `--spp`
-        // or an open lens, each of its n samples, weighing 1/n.
-        let (seeds, r) = match spp {
-            Some(n) => {
-                let strata = strata(n);
-                eye_pass(p.frame, region, n, plan.max_hitpoints, |x, y, s| {
-                    p.frame.jittered(x, y, s, strata)
-                })
-            }
-            None => eye_pass(p.frame, region, 1, plan.max_hitpoints, |x, y, _| {
-                p.frame.centre_sample(x, y)
-            }),
-        }?;
-        rays.add(&r);
-        let points = hit_points(p.scene, &model, plan, seeds.hits);
-        let direct: Vec<DVec3> = done
-            .pixels
-            .iter()
-            .map(|c| DVec3::from(glam::Vec3::from(*c)))
-            .collect();
-        (direct, points)
+        ppm_hit_points(p, region, spp, watch, &mut rays)?
     } else {
-        // SPPM: one running estimate a pixel, its point fresh each iteration.
-        let points = (0..pixels as u32)
-            .map(|pixel| HitPoint {
-                pixel,
-                point: DVec3::ZERO,
-                side: DVec3::Z,
-                brdf: Brdf {
-                    diff: 0.0,
-                    spec: 0.0,
-                    mirror: DVec3::Z,
-                },
-                weight: DVec3::ONE,
-                r2: plan.radius * plan.radius,
-                n: 0.0,
-                m: 0,
-                tau: DVec3::ZERO,
-            })
-            .collect();
-        (vec![DVec3::ZERO; pixels], points)
+        (vec![DVec3::ZERO; pixels], sppm_estimates(plan, pixels))
     };
     stats.hit_points = points.len() as u64;
-    if plan.mode == PhotonMode::Ppm {
-        // R₀²: the K-nearest distance² in a preliminary map, at most R².
-        let (map, _) = photon_map(p.scene, p.accel, &model, plan, p.seed ^ 0x7072_656c);
-        points.par_iter_mut().for_each(|h| {
-            h.r2 = map.radius2(h.point, h.side).min(plan.radius * plan.radius);
-        });
-    }
     let mut direct_sum = vec![DVec3::ZERO; pixels];
     let mut last: Option<Vec<[f32; 3]>> = None;
     for i in 1..=total {
         if watch.cancelled() {
             break;
         }
+        let at = Iteration {
+            p,
+            region,
+            i,
+            watch,
+        };
+        if !at.run(&mut points, &mut direct_sum, &mut rays, &mut stats)? {
+            break;
+        }
+        (watch.progress)(i, total);
+        if i % p.checkpoint.max(1) == 0 || i == total {
+            let picture = compose(&direct, &direct_sum, &points, i, plan.mode);
+            each(i, &picture);
+            last = Some(picture);
+        } else {
+            last = None;
+        }
+    }
+    let picture = match last {
+        Some(picture) => picture,
+        None if stats.iterations > 0 => {
+            compose(&direct, &direct_sum, &points, stats.iterations, plan.mode)
+        }
+        None => return Err(Unfinished::Cancelled),
+    };
+    let direct = direct_part(&direct, &direct_sum, stats.iterations, plan.mode);
+    Ok(Progressed {
+        pixels: picture,
+        photons: photon_term(&points, stats.iterations, pixels),
+        rays,
+        stats,
+        points,
+        direct,
+    })
+}
+
+/// PPM's start: the direct light rendered once, and the hit points of the
+/// samples the picture takes (with `--spp` or an open lens, each of its n
+/// samples, weighing 1/n), their R₀² the K-nearest distance² in a
+/// preliminary map, at most R².
+fn ppm_hit_points(
+    p: &Progressive<'_>,
+    region: Region,
+    spp: Option<u32>,
+    watch: &Watch,
+    rays: &mut RayCounts,
+) -> Result<(Vec<DVec3>, Vec<HitPoint>), Unfinished> {
+    let model = *p.frame.integrator.model();
+    let plan = p.plan;
+    let quiet = Watch {
+        progress: &|_, _| {},
+        cancel: watch.cancel,
+    };
+    let done = render_region(p.frame, region, spp, Keep::default(), &quiet)
+        .ok_or(Unfinished::Cancelled)?;
+    rays.add(&done.rays);
+    let (seeds, r) = match spp {
+        Some(n) => {
+            let strata = strata(n);
+            eye_pass(p.frame, region, n, plan.max_hitpoints, |x, y, s| {
+                p.frame.jittered(x, y, s, strata)
+            })
+        }
+        None => eye_pass(p.frame, region, 1, plan.max_hitpoints, |x, y, _| {
+            p.frame.centre_sample(x, y)
+        }),
+    }?;
+    rays.add(&r);
+    let mut points = hit_points(p.scene, &model, plan, seeds.hits);
+    let direct: Vec<DVec3> = done
+        .pixels
+        .iter()
+        .map(|c| DVec3::from(glam::Vec3::from(*c)))
+        .collect();
+    let (map, _) = photon_map(p.scene, p.accel, &model, plan, p.seed ^ 0x7072_656c);
+    points.par_iter_mut().for_each(|h| {
+        h.r2 = map.radius2(h.point, h.side).min(plan.radius * plan.radius);
+    });
+    Ok((direct, points))
+}
+
+/// SPPM's start: one running estimate a pixel, its point fresh each iteration.
+fn sppm_estimates(plan: &Plan, pixels: usize) -> Vec<HitPoint> {
+    (0..pixels as u32)
+        .map(|pixel| HitPoint {
+            pixel,
+            point: DVec3::ZERO,
+            side: DVec3::Z,
+            brdf: Brdf {
+                diff: 0.0,
+                spec: 0.0,
+                mirror: DVec3::Z,
+            },
+            weight: DVec3::ONE,
+            r2: plan.radius * plan.radius,
+            n: 0.0,
+            m: 0,
+            tau: DVec3::ZERO,
+        })
+        .collect()
+}
+
+/// Iteration `i` of PPM or SPPM over `region`.
+struct Iteration<'a, 'p> {
+    p: &'a Progressive<'p>,
+    region: Region,
+    i: u64,
+    watch: &'a Watch<'a>,
+}
+
+impl Iteration<'_, '_> {
+    /// SPPM's eye pass (its colours summed into `direct_sum`), the photon
+    /// pass and every hit point's gather and update; false when cancelled
+    /// before the gather.
+    fn run(
+        &self,
+        points: &mut [HitPoint],
+        direct_sum: &mut [DVec3],
+        rays: &mut RayCounts,
+        stats: &mut PhotonStats,
+    ) -> Result<bool, Unfinished> {
+        let (p, i) = (self.p, self.i);
+        let model = *p.frame.integrator.model();
+        let plan = p.plan;
         let visible = if plan.mode == PhotonMode::Sppm {
-            let (seeds, r) = eye_pass(p.frame, region, 1, plan.max_hitpoints, |x, y, _| {
+            let max = plan.max_hitpoints;
+            let (seeds, r) = eye_pass(p.frame, self.region, 1, max, |x, y, _| {
                 p.frame.fresh(x, y, i as u32)
             })?;
             rays.add(&r);
@@ -195,16 +266,14 @@ pub(crate) fn progressive(
                 .iter_mut()
                 .zip(&seeds.colors)
                 .for_each(|(s, c)| *s += *c);
-            Some(Visible::new(
-                hit_points(p.scene, &model, plan, seeds.hits),
-                pixels,
-            ))
+            let hits = hit_points(p.scene, &model, plan, seeds.hits);
+            Some(Visible::new(hits, direct_sum.len()))
         } else {
             None
         };
         let pass = shoot(p.scene, p.accel, &model, plan, p.seed, i);
-        if watch.cancelled() {
-            break;
+        if self.watch.cancelled() {
+            return Ok(false);
         }
         (stats.emitted, stats.stored, stats.thinned) =
             (pass.emitted, pass.photons.len() as u64, pass.thinned);
@@ -227,41 +296,22 @@ pub(crate) fn progressive(
             }),
         }
         stats.iterations = i;
-        (watch.progress)(i, total);
-        if i % p.checkpoint.max(1) == 0 || i == total {
-            let picture = compose(&direct, &direct_sum, &points, i, plan.mode);
-            each(i, &picture);
-            last = Some(picture);
-        } else {
-            last = None;
-        }
+        Ok(true)
     }
-    let picture = match last {
-        Some(picture) => picture,
-        None if stats.iterations > 0 => {
-            compose(&direct, &direct_sum, &points, stats.iterations, plan.mode)
-        }
-        None => return Err(Unfinished::Cancelled),
-    };
-    let direct = direct_part(&direct, &direct_sum, stats.iterations, plan.mode);
-    // The photons pass: each pixel's photon estimate alone.
+}
+
+/// The `photons` AOV: each pixel's photon estimate alone, after `iterations`.
+fn photon_term(points: &[HitPoint], iterations: u64, pixels: usize) -> Vec<f32> {
     let mut term = vec![0f32; pixels * 3];
-    for h in &points {
-        let v = h.radiance(stats.iterations).as_vec3();
+    for h in points {
+        let v = h.radiance(iterations).as_vec3();
         let at = h.pixel as usize * 3;
         term[at..at + 3]
             .iter_mut()
             .zip(v.to_array())
             .for_each(|(t, v)| *t += v);
     }
-    Ok(Progressed {
-        pixels: picture,
-        photons: term,
-        rays,
-        stats,
-        points,
-        direct,
-    })
+    term
 }
 
 /// Each pixel's ray-traced part after `passes` passes: PPM's render of
