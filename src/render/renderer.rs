@@ -109,101 +109,39 @@ impl Renderer {
                 frame_h: h,
             });
         }
-        let (plan, map, mut photon_stats) = self.photon_pass(options);
+        let (plan, map, photon_stats) = self.photon_pass(options);
         let tracing = self.photon_shading(&plan, map.as_ref());
         let (spp, frame) = self.sampled_frame(w, h, options, tracing);
         let watch = Watch {
             progress: control.progress.unwrap_or(&|_, _| {}),
             cancel: control.cancel,
         };
-        let count = options.aovs.contains(&Aov::Rays);
         let shading = ShadingAovs::of(&options.aovs, &self.scene).map_err(|asked| {
             RenderError::LightAovs {
                 asked,
                 max: LIGHT_AOVS_MAX,
             }
         })?;
-        let mut photon_term = None;
-        let done = if plan.mode.progressive() {
-            let checkpoint = match control.checkpoint_every {
-                0 => 10,
-                n => n,
-            };
-            let p = self.progressive(&frame, &plan, options.seed, checkpoint);
-            let mut each = |i: u64, pixels: &[[f32; 3]]| {
-                if let Some(checkpoint) = control.checkpoint {
-                    let image = Image::from_pixels(region.width, region.height, pixels.to_vec());
-                    checkpoint(i, &Film::new((w, h), region, image));
-                }
-            };
-            let done = schedule::with_threads(options.threads, || {
-                photons::progressive(&p, region, spp, &watch, &mut each)
-            })
-            .map_err(RenderError::from)?;
-            let (pixels, rays) = (done.pixels, done.rays);
-            photon_stats = done.stats;
-            photon_term = Some(done.photons);
-            // The passes of the ray-traced part, from one render of it.
-            let keep = Keep {
-                rays: count,
+        let job = RegionJob {
+            frame: &frame,
+            region,
+            spp,
+            keep: Keep {
+                rays: options.aovs.contains(&Aov::Rays),
                 shading: shading.as_ref(),
                 cost: options.aovs.contains(&Aov::Cost),
-            };
-            let traced = if count || keep.cost || shading.is_some() {
-                let done = schedule::with_threads(options.threads, || {
-                    render_region(&frame, region, spp, keep, &watch)
-                });
-                Some(done.ok_or(RenderError::Cancelled)?)
-            } else {
-                None
-            };
-            let (rays_per_pixel, shading, costs) = match traced {
-                Some(t) => (t.rays_per_pixel, t.shading, t.costs),
-                None => (None, None, None),
-            };
-            Rendered {
-                pixels,
-                rays,
-                refined: 0,
-                rays_per_pixel,
-                shading,
-                costs,
-            }
+            },
+            watch: &watch,
+            threads: options.threads,
+        };
+        let (done, photon_term, photon_stats) = if plan.mode.progressive() {
+            let (done, term, stats) = self.iterated(&job, &plan, options.seed, control)?;
+            (done, Some(term), stats)
         } else {
-            let done = schedule::with_threads(options.threads, || {
-                let keep = Keep {
-                    rays: count,
-                    shading: shading.as_ref(),
-                    cost: options.aovs.contains(&Aov::Cost),
-                };
-                render_region(&frame, region, spp, keep, &watch)
-            });
-            done.ok_or(RenderError::Cancelled)?
+            (job.trace()?, None, photon_stats)
         };
         let (rays, refined) = (done.rays, done.refined);
-        let image = Image::from_pixels(region.width, region.height, done.pixels);
-        let mut film = Film::new((w, h), region, image);
-        let mut planes = Vec::new();
-        if let Some(shaded) = done.shading {
-            planes.extend(shaded);
-        }
-        if let Some(term) = photon_term {
-            // PPM's and SPPM's estimate, not the ray tracer's (zero) term.
-            planes.retain(|(a, _)| *a != Aov::Photons);
-            planes.push((Aov::Photons, term));
-        }
-        if let Some(counts) = done.rays_per_pixel {
-            planes.push((Aov::Rays, counts));
-        }
-        if let Some(costs) = done.costs {
-            planes.push((Aov::Cost, costs));
-        }
-        // In the order asked for.
-        for &aov in &options.aovs {
-            if let Some((_, data)) = planes.iter_mut().find(|(a, _)| *a == aov) {
-                film.set_aov(aov, std::mem::take(data));
-            }
-        }
+        let film = film_of(done, photon_term, (w, h), region, &options.aovs);
         let stats = RenderStats {
             rays,
             elapsed: start.elapsed(),
@@ -212,6 +150,54 @@ impl Renderer {
             photons: photon_stats,
         };
         Ok((film, stats))
+    }
+
+    /// PPM's or SPPM's iterations over `job`'s region under `plan`, the
+    /// picture handed to `control`'s checkpoint as they go; then, when
+    /// asked for, the ray-traced part's AOVs from one render of it. Returns
+    /// what the passes produce, the photon term and the photon figures.
+    fn iterated(
+        &self,
+        job: &RegionJob,
+        plan: &Plan,
+        seed: u64,
+        control: Control<'_>,
+    ) -> Result<(Rendered, Vec<f32>, PhotonStats), RenderError> {
+        let (region, (w, h)) = (job.region, (job.frame.width, job.frame.height));
+        let checkpoint = match control.checkpoint_every {
+            0 => 10,
+            n => n,
+        };
+        let p = self.progressive(job.frame, plan, seed, checkpoint);
+        let mut each = |i: u64, pixels: &[[f32; 3]]| {
+            if let Some(checkpoint) = control.checkpoint {
+                let image = Image::from_pixels(region.width, region.height, pixels.to_vec());
+                checkpoint(i, &Film::new((w, h), region, image));
+            }
+        };
+        let done = schedule::with_threads(job.threads, || {
+            photons::progressive(&p, region, job.spp, job.watch, &mut each)
+        })
+        .map_err(RenderError::from)?;
+        let keep = job.keep;
+        let traced = if keep.rays || keep.cost || keep.shading.is_some() {
+            Some(job.trace()?)
+        } else {
+            None
+        };
+        let (rays_per_pixel, shading, costs) = match traced {
+            Some(t) => (t.rays_per_pixel, t.shading, t.costs),
+            None => (None, None, None),
+        };
+        let rendered = Rendered {
+            pixels: done.pixels,
+            rays: done.rays,
+            refined: 0,
+            rays_per_pixel,
+            shading,
+            costs,
+        };
+        Ok((rendered, done.photons, done.stats))
     }
 
     /// For each primitive block that made a surface (0-based index): its
@@ -368,6 +354,60 @@ impl Renderer {
         show(Stage::Final, &film);
         Ok((film, stats))
     }
+}
+
+/// The passes over one region of a frame, as a render runs them.
+struct RegionJob<'j> {
+    frame: &'j Frame<'j>,
+    region: Region,
+    spp: Option<u32>,
+    keep: Keep<'j>,
+    watch: &'j Watch<'j>,
+    threads: Option<usize>,
+}
+
+impl RegionJob<'_> {
+    /// The region's passes, keeping what the job asks for, on its threads.
+    fn trace(&self) -> Result<Rendered, RenderError> {
+        let done = schedule::with_threads(self.threads, || {
+            render_region(self.frame, self.region, self.spp, self.keep, self.watch)
+        });
+        done.ok_or(RenderError::Cancelled)
+    }
+}
+
+/// The film of `region` of a `frame` from what its passes produced (and
+/// PPM's or SPPM's photon term), its AOVs in the order `aovs` asks for.
+fn film_of(
+    done: Rendered,
+    photon_term: Option<Vec<f32>>,
+    frame: (u32, u32),
+    region: Region,
+    aovs: &[Aov],
+) -> Film {
+    let image = Image::from_pixels(region.width, region.height, done.pixels);
+    let mut film = Film::new(frame, region, image);
+    let mut planes = Vec::new();
+    if let Some(shaded) = done.shading {
+        planes.extend(shaded);
+    }
+    if let Some(term) = photon_term {
+        // PPM's and SPPM's estimate, not the ray tracer's (zero) term.
+        planes.retain(|(a, _)| *a != Aov::Photons);
+        planes.push((Aov::Photons, term));
+    }
+    if let Some(counts) = done.rays_per_pixel {
+        planes.push((Aov::Rays, counts));
+    }
+    if let Some(costs) = done.costs {
+        planes.push((Aov::Cost, costs));
+    }
+    for &aov in aovs {
+        if let Some((_, data)) = planes.iter_mut().find(|(a, _)| *a == aov) {
+            film.set_aov(aov, std::mem::take(data));
+        }
+    }
+    film
 }
 
 #[cfg(test)]
