@@ -59,8 +59,8 @@ pub fn solve_poly<S: Store>(
 }
 
 /// Writes into `f` (2n + 1 zeros) the coefficients of the ray's polynomial
-/// on a piece with profile `z`, `r` (degree n) and r² `rr`; `vh` (n + 1
-/// values) is scratch.
+/// on a piece with profile `z`, `r` (degree n) and r² `rr` (2n + 1
+/// coefficients); `vh` (n + 1 values) is scratch.
 #[inline(always)]
 fn ray_polynomial(z: &[f64], r: &[f64], rr: &[f64], ray: &AxisRay, f: &mut [f64], vh: &mut [f64]) {
     let n = z.len() - 1;
@@ -69,19 +69,20 @@ fn ray_polynomial(z: &[f64], r: &[f64], rr: &[f64], ray: &AxisRay, f: &mut [f64]
     // of scaled coefficients (C(n,j)·w_j) to skip the weights.
     let bn = binom_row(n);
     let two_b_da = 2.0 * ray.b * da;
-    for j in 0..=n {
-        vh[j] = bn[j] * (ray.a * (z[j] - pa) + two_b_da);
+    // (Loops over zipped slices of exact lengths: no bounds checks.)
+    for ((v, b), zj) in vh.iter_mut().zip(bn).zip(z) {
+        *v = b * (ray.a * (zj - pa) + two_b_da);
     }
-    for j in 0..=n {
-        let wh = bn[j] * (z[j] - pa);
-        for k in 0..=n {
-            f[j + k] += wh * vh[k];
+    for (j, (b, zj)) in bn.iter().zip(z).enumerate() {
+        let wh = b * (zj - pa);
+        for (fk, v) in f[j..].iter_mut().zip(&*vh) {
+            *fk += wh * v;
         }
     }
     let dd = da * da;
     let inv = inv_binom_row(2 * n);
-    for k in 0..=2 * n {
-        f[k] = f[k] * inv[k] + dd * (ray.c - rr[k]);
+    for ((fk, ik), rk) in f.iter_mut().zip(inv).zip(rr) {
+        *fk = *fk * ik + dd * (ray.c - rk);
     }
     // The end values are da²·(ρ² − r²) at the piece's ends: as a norm
     // they keep their sign when r = 0 there and the ray passes through
