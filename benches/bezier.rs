@@ -1,7 +1,8 @@
 //! Ray / Bézier-surface intersection throughput: rays from outside the
 //! surface's bounding box aimed at random points inside it (hits and
-//! misses), one core, for profiles of degree 1 to 8 (fixed-size arrays) and
-//! 20 and 30 (the any-degree path). Run with `cargo bench --bench bezier`.
+//! misses), one core, for profiles of degree 1 to 8 (the root search on
+//! fixed-size arrays) and 20 and 30 (the same search in the per-thread
+//! scratch buffer). Run with `cargo bench --features bench --bench bezier`.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use glam::{DVec2, DVec3};
@@ -90,7 +91,7 @@ fn bench(c: &mut Criterion) {
             ),
         ),
         (
-            // Above the fixed-size path (degree 16): the per-thread buffer path.
+            // Above the fixed-size arrays (degree 16): the per-thread scratch buffer.
             "ribbed_degree20",
             Bezier::new(DVec3::ZERO, DVec3::Z, ribbed(20, 2.0)),
         ),
