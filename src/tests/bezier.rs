@@ -903,19 +903,9 @@ proptest! {
 /// A "ribbed" profile of degree `n`, control points sampled from sines:
 /// z_k = h·x + a·sin(2π·fz·x + pz), r_k = r0 + b·sin(2π·fr·x + pr) at x = k/n.
 /// With a large `a` the profile folds back (z not monotone); with `b` > `r0`
-/// it crosses the axis (negative r).
-#[allow(clippy::too_many_arguments)]
-fn ribbed(
-    n: usize,
-    h: f64,
-    a: f64,
-    fz: f64,
-    pz: f64,
-    r0: f64,
-    b: f64,
-    fr: f64,
-    pr: f64,
-) -> Vec<(f64, f64)> {
+/// it crosses the axis (negative r). `z` is (h, a, fz, pz), `r` (r0, b, fr, pr).
+fn ribbed(n: usize, z: (f64, f64, f64, f64), r: (f64, f64, f64, f64)) -> Vec<(f64, f64)> {
+    let ((h, a, fz, pz), (r0, b, fr, pr)) = (z, r);
     (0..=n)
         .map(|k| {
             let x = k as f64 / n as f64;
@@ -945,7 +935,7 @@ prop_compose! {
         len in 0.5..3.0f64,
     ) -> Model {
         let mut pts = if is_ribbed {
-            ribbed(n, rib_z.0, rib_z.1, rib_z.2, rib_z.3, rib_r.0, rib_r.1, rib_r.2, rib_r.3)
+            ribbed(n, rib_z, rib_r)
         } else {
             pts
         };
@@ -1118,7 +1108,7 @@ fn high_degree_tessellation_agrees() {
     let profiles = [
         // Degree 20: a ribbed vase closed at the bottom (r = 0 there).
         Model::new(DVec3::new(1.0, -2.0, 0.0), DVec3::new(1.0, -2.0, 1.0), &{
-            let mut p = ribbed(20, 6.0, 0.0, 1.0, 0.0, 1.6, 0.9, 2.0, 0.0);
+            let mut p = ribbed(20, (6.0, 0.0, 1.0, 0.0), (1.6, 0.9, 2.0, 0.0));
             p[0].1 = 0.0;
             p
         }),
