@@ -189,6 +189,9 @@ fn launch(browser: &Path) -> (Browser, Cdp) {
         ])
         .arg(format!("--user-data-dir={}", profile.path().display()))
         .arg("about:blank")
+        // Its singleton folder (org.chromium.Chromium.*), which a killed
+        // browser leaves behind, goes into the profile folder too.
+        .env("TMPDIR", profile.path())
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()
