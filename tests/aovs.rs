@@ -146,9 +146,11 @@ fn pass_lists_parse_and_unknown_names_are_refused() {
 /// normals as floor(255·(0.5 + 0.5·n)).
 #[test]
 fn the_cli_writes_pass_files_beside_the_picture() {
-    let dir = std::env::temp_dir().join(format!("glint-passes-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{e}"));
+    let tmp = tempfile::Builder::new()
+        .prefix("glint-passes-")
+        .tempdir()
+        .unwrap_or_else(|e| panic!("{e}"));
+    let dir = tmp.path();
     let scene = dir.join("s.txt");
     std::fs::write(&scene, SCENE).unwrap_or_else(|e| panic!("{e}"));
     let out = dir.join("shot.png");
@@ -207,18 +209,20 @@ fn the_cli_writes_pass_files_beside_the_picture() {
             assert_eq!(px.0[c], want, "pixel {i}");
         }
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// An `.exr` holds the picture and every pass as layers, values exact.
 #[test]
 fn an_exr_holds_the_passes_as_layers() {
     let (_, _, f) = film(Some(1));
-    let path = std::env::temp_dir().join(format!("glint-layers-{}.exr", std::process::id()));
+    let tmp = tempfile::Builder::new()
+        .prefix("glint-layers-")
+        .tempdir()
+        .unwrap_or_else(|e| panic!("{e}"));
+    let path = tmp.path().join("layers.exr");
     glint::save_exr_layers(&f, &path, &Default::default()).unwrap_or_else(|e| panic!("{e}"));
     let image =
         exr::prelude::read_all_flat_layers_from_file(&path).unwrap_or_else(|e| panic!("{e}"));
-    let _ = std::fs::remove_file(&path);
     let names: Vec<String> = image
         .layer_data
         .iter()

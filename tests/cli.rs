@@ -4,7 +4,7 @@
 mod common;
 
 use common::{json_field, json_number, json_vec3};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output, Stdio};
 
 fn glint(args: &[&str], stdin: Option<&str>) -> Output {
@@ -35,12 +35,12 @@ fn render(scene: &str, out: &Path, extra: &[&str]) -> Output {
     glint(&args, None)
 }
 
-/// A fresh folder for one test.
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("glint-cli-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A fresh folder for one test, removed when dropped (a failing test's too).
+fn scratch(name: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("glint-cli-{name}-"))
+        .tempdir()
+        .unwrap()
 }
 
 fn write(dir: &Path, name: &str, text: &str) -> String {
@@ -67,8 +67,9 @@ end
 
 #[test]
 fn render_writes_the_image_and_a_summary() {
-    let dir = scratch("render");
-    let scene = write(&dir, "small.txt", SMALL);
+    let tmp = scratch("render");
+    let dir = tmp.path();
+    let scene = write(dir, "small.txt", SMALL);
     let out = dir.join("small.bmp");
     let o = render(&scene, &out, &["--spp", "1"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -87,7 +88,7 @@ fn render_writes_the_image_and_a_summary() {
     let img = image::open(&out).unwrap();
     assert_eq!((img.width(), img.height()), (16, 12));
     // No temporary file left beside it.
-    let names: Vec<_> = std::fs::read_dir(&dir)
+    let names: Vec<_> = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().file_name())
         .collect();
@@ -96,9 +97,10 @@ fn render_writes_the_image_and_a_summary() {
 
 #[test]
 fn a_broken_scene_exits_2_with_every_error_and_writes_nothing() {
-    let dir = scratch("broken");
+    let tmp = scratch("broken");
+    let dir = tmp.path();
     let scene = write(
-        &dir,
+        dir,
         "broken.txt",
         "camera\n    image_W= 32\nend\nprimitive spher\n    O= 0 5 0\nend\nprimitive sphere\n    O= 0 5 x\n    R= -1\nend\n",
     );
@@ -120,8 +122,9 @@ fn a_broken_scene_exits_2_with_every_error_and_writes_nothing() {
 
 #[test]
 fn bad_arguments_exit_2_and_write_nothing() {
-    let dir = scratch("args");
-    let scene = write(&dir, "s.txt", SMALL);
+    let tmp = scratch("args");
+    let dir = tmp.path();
+    let scene = write(dir, "s.txt", SMALL);
     let out = dir.join("s.png");
     for args in [
         vec![
@@ -179,14 +182,15 @@ fn refused(scene: &str, out: &Path, flag: &str, value: &str, why: &str) -> Strin
 
 #[test]
 fn zero_spp_or_threads_exit_2_and_write_nothing() {
-    let dir = scratch("zero");
-    let scene = write(&dir, "s.txt", SMALL);
+    let tmp = scratch("zero");
+    let dir = tmp.path();
+    let scene = write(dir, "s.txt", SMALL);
     let out = dir.join("s.png");
     for flag in ["--spp", "--threads"] {
         let err = refused(&scene, &out, flag, "0", "must be at least 1");
         assert!(!err.contains("panicked"), "{err}");
         // Nothing else either (no temporary file): only the scene is there.
-        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "{flag} 0");
+        assert_eq!(std::fs::read_dir(dir).unwrap().count(), 1, "{flag} 0");
     }
     // 1 is the smallest value accepted.
     let o = render(&scene, &out, &["--spp", "1", "--threads", "1"]);
@@ -196,8 +200,9 @@ fn zero_spp_or_threads_exit_2_and_write_nothing() {
 
 #[test]
 fn absurd_thread_counts_exit_2_at_once_and_write_nothing() {
-    let dir = scratch("threads");
-    let scene = write(&dir, "s.txt", SMALL);
+    let tmp = scratch("threads");
+    let dir = tmp.path();
+    let scene = write(dir, "s.txt", SMALL);
     let out = dir.join("s.png");
     // Each would start that many threads (10 000 idle ones took minutes).
     for n in ["1025", "100000", "18446744073709551615"] {
@@ -211,8 +216,9 @@ fn absurd_thread_counts_exit_2_at_once_and_write_nothing() {
 
 #[test]
 fn piped_stderr_gets_the_summary_line_but_no_progress_bar() {
-    let dir = scratch("progress");
-    let scene = write(&dir, "s.txt", SMALL);
+    let tmp = scratch("progress");
+    let dir = tmp.path();
+    let scene = write(dir, "s.txt", SMALL);
     let out = dir.join("s.png");
     // Large enough that a shown bar would be drawn; `glint` pipes stderr.
     let o = render(&scene, &out, &["--width", "640"]);
@@ -249,9 +255,10 @@ type Expected = (f64, [f64; 3], [f64; 3], bool, &'static str);
 
 #[test]
 fn probe_answers_match_closed_forms() {
-    let dir = scratch("probe");
+    let tmp = scratch("probe");
+    let dir = tmp.path();
     let scene = write(
-        &dir,
+        dir,
         "p.txt",
         "camera\nend
 light sphere\n    O= 0 -20 0\n    R= 1\n    color= 1 1 1\nend
@@ -310,10 +317,11 @@ primitive cube\n    O= 0 0 10\n    Dx= 1 0 0\n    Dy= 0 1 0\n    x= 1\n    y= 2\
 
 #[test]
 fn probe_rejects_bad_rays_with_line_and_column() {
-    let dir = scratch("probe-bad");
-    let scene = write(&dir, "p.txt", SMALL);
+    let tmp = scratch("probe-bad");
+    let dir = tmp.path();
+    let scene = write(dir, "p.txt", SMALL);
     let rays = write(
-        &dir,
+        dir,
         "rays.txt",
         "0 0 0 0 1 0\n\n0 0 zero 0 1 0\n0 0 0 0 0 0\n",
     );
@@ -333,12 +341,13 @@ fn probe_rejects_bad_rays_with_line_and_column() {
 
 #[test]
 fn control_characters_from_a_scene_reach_the_terminal_escaped() {
-    let dir = scratch("escape");
+    let tmp = scratch("escape");
+    let dir = tmp.path();
     let out = dir.join("s.png");
     // Two warnings (unknown key, text outside a block), each quoting a word
     // that holds an escape sequence, and an error.
     let scene = write(
-        &dir,
+        dir,
         "s.txt",
         "camera\n \u{1b}[31mO= 1 2 3\nend\n\u{1b}[2Jprimitive sphere\nend\nprimitive sphere\n R= x\nend\n",
     );
@@ -381,8 +390,9 @@ fn render_with_no_color(scene: &str, out: &Path, no_color: Option<&str>) -> Outp
 
 #[test]
 fn diagnostics_have_no_colour_in_a_pipe_or_with_no_color() {
-    let dir = scratch("no-colour");
-    let scene = write(&dir, "s.txt", FLAWED);
+    let tmp = scratch("no-colour");
+    let dir = tmp.path();
+    let scene = write(dir, "s.txt", FLAWED);
     let out = dir.join("s.png");
     for no_color in [None, Some(""), Some("1")] {
         let o = render_with_no_color(&scene, &out, no_color);
@@ -402,8 +412,9 @@ fn diagnostics_have_no_colour_in_a_pipe_or_with_no_color() {
 
 #[test]
 fn carets_line_up_under_chinese_text() {
-    let dir = scratch("wide");
-    let scene = write(&dir, "s.txt", FLAWED);
+    let tmp = scratch("wide");
+    let dir = tmp.path();
+    let scene = write(dir, "s.txt", FLAWED);
     let o = render(&scene, &dir.join("s.png"), &[]);
     let err = String::from_utf8_lossy(&o.stderr);
     let block = err
@@ -443,8 +454,9 @@ fn render_on_a_terminal(scene: &str, out: &Path, no_color: Option<&str>) -> Opti
 
 #[test]
 fn diagnostics_are_coloured_on_a_terminal_unless_no_color() {
-    let dir = scratch("colour");
-    let scene = write(&dir, "s.txt", FLAWED);
+    let tmp = scratch("colour");
+    let dir = tmp.path();
+    let scene = write(dir, "s.txt", FLAWED);
     let out = dir.join("s.png");
     let Some(shown) = render_on_a_terminal(&scene, &out, None) else {
         eprintln!("no /usr/bin/script: the terminal case is left untested");
@@ -463,8 +475,9 @@ fn diagnostics_are_coloured_on_a_terminal_unless_no_color() {
 
 #[test]
 fn a_scene_is_never_overwritten_by_its_own_output() {
-    let dir = scratch("self-overwrite");
-    let scene = write(&dir, "a.png", SMALL);
+    let tmp = scratch("self-overwrite");
+    let dir = tmp.path();
+    let scene = write(dir, "a.png", SMALL);
     // -o naming the scene, spelled another way.
     let other = dir.join(".").join("a.png");
     let o = render(&scene, &other, &["--spp", "1"]);
@@ -475,7 +488,7 @@ fn a_scene_is_never_overwritten_by_its_own_output() {
     // The default output name (the scene's stem + .png) in the scene's folder.
     let o = Command::new(env!("CARGO_BIN_EXE_glint"))
         .args(["render", "a.png", "--spp", "1"])
-        .current_dir(&dir)
+        .current_dir(dir)
         .output()
         .unwrap();
     assert_eq!(o.status.code(), Some(2));
@@ -487,7 +500,7 @@ fn a_scene_is_never_overwritten_by_its_own_output() {
     assert_eq!(o.status.code(), Some(2));
     assert_eq!(std::fs::read_to_string(&scene).unwrap(), SMALL);
     assert_eq!(
-        std::fs::read_dir(&dir).unwrap().count(),
+        std::fs::read_dir(dir).unwrap().count(),
         2,
         "nothing else written"
     );
@@ -513,8 +526,9 @@ fn terminate(child: &std::process::Child) -> bool {
 
 #[test]
 fn a_signal_stops_the_render_and_leaves_no_file() {
-    let dir = scratch("signal");
-    let scene = write(&dir, "s.txt", SMALL);
+    let tmp = scratch("signal");
+    let dir = tmp.path();
+    let scene = write(dir, "s.txt", SMALL);
     let out = dir.join("s.png");
     let child = spawn_render(&scene, &out, &["--width", "2000", "--spp", "4096"]);
     std::thread::sleep(std::time::Duration::from_millis(300));
@@ -525,11 +539,7 @@ fn a_signal_stops_the_render_and_leaves_no_file() {
     assert_eq!(o.status.code(), Some(130));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("interrupted"), "{err}");
-    assert_eq!(
-        std::fs::read_dir(&dir).unwrap().count(),
-        1,
-        "only the scene"
-    );
+    assert_eq!(std::fs::read_dir(dir).unwrap().count(), 1, "only the scene");
 }
 
 /// Runs glint with stdout or stderr (`which`: 1 or 2) going to /dev/full.
@@ -554,12 +564,13 @@ fn glint_into_full(args: &[&str], which: u8) -> Output {
 
 #[test]
 fn an_unwritable_stderr_keeps_the_exit_codes() {
-    let dir = scratch("stderr-full");
-    let bad = write(&dir, "bad.txt", "camera\n image_W= -3\nend\n");
+    let tmp = scratch("stderr-full");
+    let dir = tmp.path();
+    let bad = write(dir, "bad.txt", "camera\n image_W= -3\nend\n");
     let o = glint_into_full(&["render", &bad, "-o", "/nonexistent/x.png"], 2);
     assert_eq!(o.status.code(), Some(2));
     let warns = write(
-        &dir,
+        dir,
         "warn.txt",
         &SMALL.replace("diff= 1", "diff= 1\n    bogus= 3"),
     );
@@ -571,15 +582,16 @@ fn an_unwritable_stderr_keeps_the_exit_codes() {
 
 #[test]
 fn probe_output_errors_are_reported_but_a_closed_pipe_is_quiet() {
-    let dir = scratch("probe-full");
-    let scene = write(&dir, "p.txt", SMALL);
-    let rays = write(&dir, "rays.txt", "0 0 0 0 1 0\n");
+    let tmp = scratch("probe-full");
+    let dir = tmp.path();
+    let scene = write(dir, "p.txt", SMALL);
+    let rays = write(dir, "rays.txt", "0 0 0 0 1 0\n");
     let o = glint_into_full(&["probe", &scene, "--rays", &rays, "--json"], 1);
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("cannot write the probe answers"), "{err}");
     // A reader that is gone: exit 0, nothing said.
-    let many = write(&dir, "many.txt", &"0 0 0 0 1 0\n".repeat(200_000));
+    let many = write(dir, "many.txt", &"0 0 0 0 1 0\n".repeat(200_000));
     let mut child = Command::new(env!("CARGO_BIN_EXE_glint"))
         .args(["probe", &scene, "--rays", &many, "--json"])
         .stdout(Stdio::piped())
@@ -598,8 +610,9 @@ fn probe_output_errors_are_reported_but_a_closed_pipe_is_quiet() {
 
 #[test]
 fn argument_and_path_messages_are_escaped() {
-    let dir = scratch("escape-args");
-    let scene = write(&dir, "s.txt", SMALL);
+    let tmp = scratch("escape-args");
+    let dir = tmp.path();
+    let scene = write(dir, "s.txt", SMALL);
     // An override that would turn the rest of the line around.
     let o = glint(&["render", &scene, "--width", "1\u{202e}2"], None);
     assert_eq!(o.status.code(), Some(2));
@@ -619,7 +632,8 @@ fn argument_and_path_messages_are_escaped() {
 
 #[test]
 fn endless_or_odd_files_are_refused_with_their_name() {
-    let dir = scratch("endless");
+    let tmp = scratch("endless");
+    let dir = tmp.path();
     let out = dir.join("x.png");
     for (scene, why) in [
         ("/dev/zero", "is not a regular file"),
@@ -641,7 +655,7 @@ fn endless_or_odd_files_are_refused_with_their_name() {
         "{err}"
     );
     // Rays from an endless source.
-    let scene = write(&dir, "p.txt", SMALL);
+    let scene = write(dir, "p.txt", SMALL);
     let o = glint(&["probe", &scene, "--rays", "/dev/zero"], None);
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
@@ -654,24 +668,21 @@ fn endless_or_odd_files_are_refused_with_their_name() {
 
 #[test]
 fn probe_rays_keep_the_scene_limits_and_json_stays_json() {
-    let dir = scratch("probe-limits");
+    let tmp = scratch("probe-limits");
+    let dir = tmp.path();
     let scene = write(
-        &dir,
+        dir,
         "plane.txt",
         "primitive plane\n O= 0 0 0\n N= 0 0 1\n color= 1 1 1\nend\n",
     );
-    let rays = write(
-        &dir,
-        "r.txt",
-        "0 0 1 0 0 -1\n1e308 7 -1e308 1e100 1 1e100\n",
-    );
+    let rays = write(dir, "r.txt", "0 0 1 0 0 -1\n1e308 7 -1e308 1e100 1 1e100\n");
     let o = glint(&["probe", &scene, "--rays", &rays, "--json"], None);
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("r.txt:2:1:") && err.contains("1e100"), "{err}");
     // Within the limits, a hit far away along a grazing ray: no inf or NaN.
     let rays = write(
-        &dir,
+        dir,
         "r.txt",
         "0 0 1e100 1 0 -1e-300\n1e100 0 1e100 1 1 -1e-100\n",
     );
@@ -692,10 +703,11 @@ fn probe_rays_keep_the_scene_limits_and_json_stays_json() {
 
 #[test]
 fn reports_stay_small_for_a_line_of_many_bad_words() {
-    let dir = scratch("many-bad");
+    let tmp = scratch("many-bad");
+    let dir = tmp.path();
     let words = "x ".repeat(20_000);
     let scene = write(
-        &dir,
+        dir,
         "m.txt",
         &format!("{SMALL}primitive sphere\n R= 1\n O= {words}\nend\n"),
     );
@@ -715,11 +727,12 @@ fn reports_stay_small_for_a_line_of_many_bad_words() {
 #[test]
 fn a_long_render_is_announced_with_what_drives_it() {
     use std::io::BufRead;
-    let dir = scratch("slow");
+    let tmp = scratch("slow");
+    let dir = tmp.path();
     let text = SMALL
         .replace("image_H= 24\n", "image_H= 24\n    shade_quality= 1024\n")
         .replace("light point", "light sphere\n    R= 1");
-    let scene = write(&dir, "slow.txt", &text);
+    let scene = write(dir, "slow.txt", &text);
     let out = dir.join("s.png");
     let mut child = spawn_render(&scene, &out, &["--width", "4000", "--spp", "64"]);
     // The warning comes before the render starts; then stop it.
@@ -768,7 +781,8 @@ fn slow_warning(scene: &str, out: &Path, extra: &[&str]) -> String {
 /// overrides the first's) and the area lights' headers.
 #[test]
 fn a_long_render_names_the_lines_of_the_keys_that_drive_it() {
-    let dir = scratch("slow-lines");
+    let tmp = scratch("slow-lines");
+    let dir = tmp.path();
     let text = "camera
     image_W= 4000
     image_H= 3000
@@ -786,7 +800,7 @@ primitive sphere
     R= 1
 end
 ";
-    let scene = write(&dir, "lines.txt", text);
+    let scene = write(dir, "lines.txt", text);
     let first = slow_warning(&scene, &dir.join("l.png"), &[]);
     // Places as the user named the file, the lines counted by hand above.
     for (line, what) in [
@@ -813,8 +827,9 @@ end
 
 #[test]
 fn the_memory_check_respects_the_address_space_limit() {
-    let dir = scratch("rlimit");
-    let scene = write(&dir, "s.txt", SMALL);
+    let tmp = scratch("rlimit");
+    let dir = tmp.path();
+    let scene = write(dir, "s.txt", SMALL);
     let out = dir.join("big.png");
     // 2 GB of address space; a 20000×20000 image needs far more.
     let script = format!(
@@ -874,7 +889,8 @@ fn glint_peak_memory(args: &[&str]) -> (String, u64) {
 /// 254, PPM's hit points 155, SPPM's 450.)
 #[test]
 fn peak_memory_stays_under_the_stated_bound() {
-    let dir = scratch("memory-bound");
+    let tmp = scratch("memory-bound");
+    let dir = tmp.path();
     let mut text = String::from(
         "camera\n O= 0 -14 5\n N= 0 1 -0.3\n image_W= 64\n image_H= 48\nend\n\
          light point\n O= 3 -6 8\n color= 1 1 1\nend\n\
@@ -890,7 +906,7 @@ fn peak_memory_stays_under_the_stated_bound() {
             );
         }
     }
-    let scene = write(&dir, "edges.txt", &text);
+    let scene = write(dir, "edges.txt", &text);
     let every_pass = "normal,depth,position,uv,primitive,albedo,light:1,shade,why,rays,cost,clamp";
     let photons = |mode| vec!["--photons", mode, "--iterations", "2", "--emit", "20000"];
     let cases: Vec<(&str, &str, Vec<&str>)> = vec![
@@ -941,11 +957,12 @@ fn peak_memory_stays_under_the_stated_bound() {
 /// errors; text and JSON name the file and line.
 #[test]
 fn check_exit_codes_text_and_json() {
-    let dir = scratch("check");
+    let tmp = scratch("check");
+    let dir = tmp.path();
     let clean = "camera\n O= 0 -8 2\n N= 0 1 -0.2\n image_W= 64\n image_H= 48\n lens_W= 1\n lens_H= 0.75\nend\n\
                  light point\n O= 3 -6 8\n color= 1 1 1\nend\n\
                  primitive sphere\n O= 0 0 1\n R= 1\n color= 1 0.3 0.2\n diff= 0.7\nend\n";
-    let good = write(&dir, "good.txt", clean);
+    let good = write(dir, "good.txt", clean);
     let o = glint(&["check", &good, "--deny-warnings"], None);
     assert_eq!(
         o.status.code(),
@@ -955,7 +972,7 @@ fn check_exit_codes_text_and_json() {
     );
     // A stretched lens (line 1: the camera block) and a black ball (line 13).
     let bad = write(
-        &dir,
+        dir,
         "bad.txt",
         &clean
             .replace("lens_H= 0.75", "lens_H= 0.5")
@@ -993,7 +1010,7 @@ fn check_exit_codes_text_and_json() {
             .is_some_and(|r| r >= 64 * 48)
     );
     // A scene that cannot be read: exit 2, its errors as findings.
-    let broken = write(&dir, "broken.txt", "primitive sphere\n R= -1\nend\n");
+    let broken = write(dir, "broken.txt", "primitive sphere\n R= -1\nend\n");
     let o = glint(&["check", &broken, "--json"], None);
     assert_eq!(o.status.code(), Some(2));
     let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
@@ -1011,8 +1028,9 @@ fn check_exit_codes_text_and_json() {
 /// legend; a bad `light:` is an argument error naming it, nothing written.
 #[test]
 fn shading_aovs_are_written_with_the_why_legend() {
-    let dir = scratch("shading-passes");
-    let scene = write(&dir, "s.txt", SMALL);
+    let tmp = scratch("shading-passes");
+    let dir = tmp.path();
+    let scene = write(dir, "s.txt", SMALL);
     let out = dir.join("shot.png");
     let o = render(&scene, &out, &["--aov", "light:0,shade,why,clamp", "-q"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));

@@ -107,9 +107,11 @@ fn sizes_that_differ_are_an_error() {
 
 #[test]
 fn the_command_writes_the_heat_map_and_json() {
-    let dir = std::env::temp_dir().join(format!("glint-compare-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::Builder::new()
+        .prefix("glint-compare-")
+        .tempdir()
+        .unwrap();
+    let dir = tmp.path();
     let scene = dir.join("s.txt");
     std::fs::write(&scene, SCENE).unwrap();
     let r = Renderer::new(Scene::from_file(&scene).unwrap());
@@ -201,9 +203,11 @@ fn shell_words(line: &str) -> Vec<String> {
 #[test]
 fn the_explain_command_draws_glints_pixel_as_the_compare_did() {
     // A folder with a space and a quote: the file must be quoted.
-    let dir = std::env::temp_dir().join(format!("glint compare's {}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::Builder::new()
+        .prefix("glint compare's ")
+        .tempdir()
+        .unwrap();
+    let dir = tmp.path();
     let scene = dir.join("s.txt");
     std::fs::write(&scene, SCENE).unwrap();
     // Options that change pixels: another size, jittered samples, a seed, a dialect.
@@ -282,5 +286,4 @@ fn the_explain_command_draws_glints_pixel_as_the_compare_did() {
         assert_eq!(ex["bytes"], serde_json::json!(ours[i..i + 3]), "{line}");
         assert_eq!(g["example"]["glint"], ex["bytes"], "{line}");
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -15,9 +15,8 @@ use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
 use std::f64::consts::{PI, TAU};
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Stdio};
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// One hit as the probe prints it.
 #[derive(Clone, Copy, Debug)]
@@ -28,16 +27,13 @@ struct Answer {
     uv: DVec2,
 }
 
-/// A fresh temporary folder for one test's files.
-fn temp_dir(what: &str) -> PathBuf {
-    static COUNT: AtomicUsize = AtomicUsize::new(0);
-    let dir = std::env::temp_dir().join(format!(
-        "glint-lineages-{what}-{}-{}",
-        std::process::id(),
-        COUNT.fetch_add(1, Ordering::Relaxed)
-    ));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A fresh temporary folder for one test's files, removed when dropped (a
+/// failing test's too).
+fn temp_dir(what: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("glint-lineages-{what}-"))
+        .tempdir()
+        .unwrap()
 }
 
 /// Runs `glint probe SCENE --rays - --json` in `dir` on unit-direction
@@ -182,7 +178,8 @@ fn ray_towards(
 #[test]
 fn rectangle_matches_the_plane_and_its_two_ranges() {
     let mut rng = Pcg64::seed_from_u64(1601);
-    let dir = temp_dir("rectangle");
+    let tmp = temp_dir("rectangle");
+    let dir = tmp.path();
     let (mut hits, mut misses, mut total) = (0, 0, 0);
     for case in 0..8 {
         let n = unit(&mut rng) * rng.random_range(0.5..3.0);
@@ -245,13 +242,12 @@ fn rectangle_matches_the_plane_and_its_two_ranges() {
                 }
             })
             .collect();
-        let got = probe(&dir, &scene, &rays);
+        let got = probe(dir, &scene, &rays);
         let (h, m) = compare("rectangle", 1e-9, &rays, &expected, &got, false);
         hits += h;
         misses += m;
         total += rays.len();
     }
-    let _ = std::fs::remove_dir_all(&dir);
     eprintln!("rectangle: {hits} hits, {misses} misses of {total} rays");
     assert!(
         hits > total / 5 && misses > total / 5,
@@ -365,7 +361,8 @@ fn ray_triangle(o: DVec3, d: DVec3, p: &[DVec3; 3]) -> Option<(f64, f64, f64)> {
 #[test]
 fn polyhedron_matches_the_placed_obj_triangles() {
     let mut rng = Pcg64::seed_from_u64(1602);
-    let dir = temp_dir("polyhedron");
+    let tmp = temp_dir("polyhedron");
+    let dir = tmp.path();
     std::fs::write(dir.join("m.obj"), OBJ).unwrap();
     let (mut hits, mut misses, mut total) = (0, 0, 0);
     for _ in 0..8 {
@@ -451,7 +448,7 @@ fn polyhedron_matches_the_placed_obj_triangles() {
                 }
             })
             .collect();
-        let got = probe(&dir, &scene, &rays);
+        let got = probe(dir, &scene, &rays);
         // `front` depends on the winding glint keeps; align it with the answer.
         let got: Vec<_> = got
             .into_iter()
@@ -462,7 +459,6 @@ fn polyhedron_matches_the_placed_obj_triangles() {
         misses += m;
         total += rays.len();
     }
-    let _ = std::fs::remove_dir_all(&dir);
     eprintln!("polyhedron: {hits} hits, {misses} misses of {total} rays");
     assert!(
         hits > total / 2 && misses > total / 10,
@@ -633,7 +629,8 @@ fn bernstein6_derivative(c: [f64; 7], t: f64) -> f64 {
 #[test]
 fn v_bezier_matches_a_scan_of_its_profile() {
     let mut rng = Pcg64::seed_from_u64(1603);
-    let dir = temp_dir("vase");
+    let tmp = temp_dir("vase");
+    let dir = tmp.path();
     let (mut hits, mut misses, mut total) = (0, 0, 0);
     for _ in 0..4 {
         let vase = Vase {
@@ -673,7 +670,7 @@ fn v_bezier_matches_a_scan_of_its_profile() {
                 e => e,
             })
             .collect();
-        let got = probe(&dir, &scene, &rays);
+        let got = probe(dir, &scene, &rays);
         let got: Vec<_> = got
             .into_iter()
             .map(|a| a.map(|a| Answer { front: true, ..a }))
@@ -685,7 +682,6 @@ fn v_bezier_matches_a_scan_of_its_profile() {
         misses += m;
         total += rays.len();
     }
-    let _ = std::fs::remove_dir_all(&dir);
     eprintln!("Bezier: {hits} hits, {misses} misses of {total} rays");
     assert!(
         hits > total / 2 && misses > total / 10,
@@ -704,7 +700,8 @@ fn v_bezier_matches_a_scan_of_its_profile() {
 /// pixel would be L·N = 1/√2.
 #[test]
 fn normal_mapped_plane_shades_with_the_perturbed_normal() {
-    let dir = temp_dir("render");
+    let tmp = temp_dir("render");
+    let dir = tmp.path();
     let bytes = [64u8, 200, 230];
     image::RgbImage::from_pixel(2, 2, image::Rgb(bytes))
         .save(dir.join("n.bmp"))
@@ -712,7 +709,7 @@ fn normal_mapped_plane_shades_with_the_perturbed_normal() {
     let text = "camera\n O= 0 0 0\n N= 0 1 0\n image_W= 21\n image_H= 21\nend\n\
                 light point\n O= 0 0 5\n color= 1 1 1\nend\n\
                 primitive NomalPlane\n N= 0 -1 0\n R= -5\n color= 1 1 1\n diff= 1\n NT= n.bmp\nend\n";
-    let scene = glint::Scene::parse(text, &dir).unwrap();
+    let scene = glint::Scene::parse(text, dir).unwrap();
     let renderer = glint::Renderer::new(scene);
     // Photons off: the ray-traced formula (V's default algorithm is SPPM).
     let options = glint::RenderOptions {
@@ -738,5 +735,4 @@ fn normal_mapped_plane_shades_with_the_perturbed_normal() {
     for c in got {
         assert!((f64::from(c) - want).abs() < 1e-6, "{got:?} vs {want}");
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }

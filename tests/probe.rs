@@ -19,9 +19,7 @@ use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
 use std::f64::consts::TAU;
 use std::io::Write;
-use std::path::PathBuf;
 use std::process::{Command, Stdio};
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 // ---------------------------------------------------------------- running the probe
 
@@ -69,12 +67,11 @@ fn parse_answer(line: &str) -> Option<Answer> {
 /// returns its answers, one per ray; `warns` says whether the scene is one
 /// glint must warn about (else its standard error must stay empty).
 fn probe(scene: &str, rays: &[(DVec3, DVec3)], warns: bool) -> Vec<Option<Answer>> {
-    static COUNT: AtomicUsize = AtomicUsize::new(0);
-    let path: PathBuf = std::env::temp_dir().join(format!(
-        "glint-probe-test-{}-{}.txt",
-        std::process::id(),
-        COUNT.fetch_add(1, Ordering::Relaxed)
-    ));
+    let tmp = tempfile::Builder::new()
+        .prefix("glint-probe-test-")
+        .tempdir()
+        .unwrap();
+    let path = tmp.path().join("scene.txt");
     std::fs::write(&path, scene).unwrap();
     let mut input = String::new();
     for (o, d) in rays {
@@ -94,7 +91,6 @@ fn probe(scene: &str, rays: &[(DVec3, DVec3)], warns: bool) -> Vec<Option<Answer
         .write_all(input.as_bytes())
         .unwrap();
     let out = child.wait_with_output().unwrap();
-    let _ = std::fs::remove_file(&path);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "probe failed: {stderr}\n{scene}");
     assert_eq!(

@@ -17,7 +17,8 @@ fn final_of(s: &serde_json::Value, version: u64) -> bool {
 
 #[test]
 fn every_request_needs_the_token_and_only_the_scenes_files_are_served() {
-    let dir = temp_dir("token");
+    let tmp = temp_dir("token");
+    let dir = tmp.path();
     let scene = dir.join("scene.txt");
     save(&scene, &scene_text(32, 24, "1 0 0"));
     let s = Served::start(&scene, &[]);
@@ -92,12 +93,12 @@ fn every_request_needs_the_token_and_only_the_scenes_files_are_served() {
         assert!(r.status == 404 || r.status == 400, "{path}: {}", r.status);
         assert!(!r.text().contains("root:"), "{path}");
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn oversized_and_odd_requests_are_refused_and_the_server_goes_on() {
-    let dir = temp_dir("odd");
+    let tmp = temp_dir("odd");
+    let dir = tmp.path();
     let scene = dir.join("scene.txt");
     save(&scene, &scene_text(32, 24, "1 0 0"));
     let s = Served::start(&scene, &["--spp", "1"]);
@@ -163,7 +164,6 @@ fn oversized_and_odd_requests_are_refused_and_the_server_goes_on() {
     let _ = request(&s.host, "HELLO\r\n\r\n");
     let _ = request(&s.host, "GET /api/st");
     assert_eq!(s.get("/api/state").status, 200, "the server goes on");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -172,7 +172,8 @@ fn no_connection_is_held_open_after_its_answer() {
     // hold one of tiny_http's pool threads, behind which its pool can
     // queue new connections for as long as it stays open (CI once saw 12
     // requests wait 20 s that way): each is answered and closed instead.
-    let dir = temp_dir("close");
+    let tmp = temp_dir("close");
+    let dir = tmp.path();
     let scene = dir.join("scene.txt");
     save(&scene, &scene_text(32, 24, "1 0 0"));
     let s = Served::start(&scene, &["--spp", "1"]);
@@ -207,12 +208,12 @@ fn no_connection_is_held_open_after_its_answer() {
     let r = request(&s.host, "GET /api/state?token=x HTTP/1.1\r\nHost: x\r\n");
     assert_eq!(r.status, 408, "{}", r.head);
     assert_eq!(s.get("/api/state").status, 200, "the server goes on");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn many_clients_at_once_are_answered() {
-    let dir = temp_dir("many");
+    let tmp = temp_dir("many");
+    let dir = tmp.path();
     let scene = dir.join("scene.txt");
     save(&scene, &scene_text(48, 36, "0 1 0"));
     let s = Served::start(&scene, &[]);
@@ -248,12 +249,12 @@ fn many_clients_at_once_are_answered() {
         let (_, f) = wait_event(rx, WAIT, |n, _| n == "frame");
         assert_eq!(f["id"], st["frame"]["id"]);
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn a_save_during_a_render_cancels_it_and_the_new_version_is_shown() {
-    let dir = temp_dir("cancel");
+    let tmp = temp_dir("cancel");
+    let dir = tmp.path();
     let scene = dir.join("scene.txt");
     // Slow: 1000×750 at 64 samples a pixel takes many seconds on two cores.
     save(&scene, &scene_text(1000, 750, "1 0 0"));
@@ -284,12 +285,12 @@ fn a_save_during_a_render_cancels_it_and_the_new_version_is_shown() {
         "save to the new version's coarse frame event: {:.0} ms",
         preview.as_secs_f64() * 1e3
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn a_broken_file_keeps_the_last_picture_and_lists_its_diagnostics_until_fixed() {
-    let dir = temp_dir("broken");
+    let tmp = temp_dir("broken");
+    let dir = tmp.path();
     let scene = dir.join("scene.txt");
     save(&scene, &scene_text(32, 24, "1 0 0"));
     let s = Served::start(&scene, &[]);
@@ -328,12 +329,12 @@ fn a_broken_file_keeps_the_last_picture_and_lists_its_diagnostics_until_fixed() 
         good,
         "the green sphere is shown"
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn explain_is_glint_explains_json_and_its_rays_start_at_the_pixel() {
-    let dir = temp_dir("explain");
+    let tmp = temp_dir("explain");
+    let dir = tmp.path();
     let scene = dir.join("scene.txt");
     save(&scene, &scene_text(40, 30, "1 1 1"));
     let s = Served::start(&scene, &["--spp", "1"]);
@@ -373,12 +374,12 @@ fn explain_is_glint_explains_json_and_its_rays_start_at_the_pixel() {
         "refl= 0.2 makes a reflected ray"
     );
     assert!(rays.iter().any(|r| r["kind"] == "shadow"));
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn aovs_ids_and_a_watched_texture() {
-    let dir = temp_dir("aovs");
+    let tmp = temp_dir("aovs");
+    let dir = tmp.path();
     let scene = dir.join("scene.txt");
     let tex = dir.join("t.bmp");
     image::RgbImage::from_pixel(2, 2, image::Rgb([255, 0, 0]))
@@ -465,12 +466,12 @@ fn aovs_ids_and_a_watched_texture() {
     std::fs::rename(&tmp, &tex).expect("rename");
     s.wait_state(WAIT, |st| final_of(st, 2));
     assert_ne!(s.get("/api/image.png").body, before);
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn their_render_is_compared() {
-    let dir = temp_dir("compare");
+    let tmp = temp_dir("compare");
+    let dir = tmp.path();
     let scene = dir.join("scene.txt");
     save(&scene, &scene_text(32, 24, "1 0 0"));
     let theirs = dir.join("theirs.png");
@@ -488,12 +489,12 @@ fn their_render_is_compared() {
         assert_eq!(r.status, 200, "{p}");
         assert_eq!(&r.body[1..4], b"PNG");
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn a_missing_scene_or_picture_is_exit_2() {
-    let dir = temp_dir("missing");
+    let tmp = temp_dir("missing");
+    let dir = tmp.path();
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_glint"))
         .args(["serve", "--port", "0"])
         .arg(dir.join("nope.txt"))
@@ -510,7 +511,6 @@ fn a_missing_scene_or_picture_is_exit_2() {
         .output()
         .expect("glint");
     assert_eq!(out.status.code(), Some(2));
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// `cargo test --release --test serve -- --ignored --nocapture`: the
@@ -518,7 +518,8 @@ fn a_missing_scene_or_picture_is_exit_2() {
 #[test]
 #[ignore]
 fn memory_over_a_thousand_saves() {
-    let dir = temp_dir("soak");
+    let tmp = temp_dir("soak");
+    let dir = tmp.path();
     let scene = dir.join("scene.txt");
     save(&scene, &scene_text(64, 48, "1 0 0"));
     let s = Served::start(&scene, &[]);
@@ -548,5 +549,4 @@ fn memory_over_a_thousand_saves() {
         start.elapsed().as_secs_f64(),
         start.elapsed().as_secs_f64() // 1000 saves: this many ms each
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }

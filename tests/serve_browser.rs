@@ -56,14 +56,14 @@ fn now_ms() -> f64 {
 /// A headless Chromium, killed when dropped.
 struct Browser {
     child: Child,
-    profile: PathBuf,
+    /// Removed when dropped, after the browser is gone.
+    _profile: tempfile::TempDir,
 }
 
 impl Drop for Browser {
     fn drop(&mut self) {
         let _ = self.child.kill();
         let _ = self.child.wait();
-        let _ = std::fs::remove_dir_all(&self.profile);
     }
 }
 
@@ -187,14 +187,20 @@ fn launch(browser: &Path) -> (Browser, Cdp) {
             "--window-size=1400,900",
             "--remote-debugging-port=0",
         ])
-        .arg(format!("--user-data-dir={}", profile.display()))
+        .arg(format!("--user-data-dir={}", profile.path().display()))
         .arg("about:blank")
+        // Its singleton folder (org.chromium.Chromium.*), which a killed
+        // browser leaves behind, goes into the profile folder too.
+        .env("TMPDIR", profile.path())
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()
         .expect("chromium starts");
     let stderr = child.stderr.take().expect("stderr");
-    let browser = Browser { child, profile };
+    let browser = Browser {
+        child,
+        _profile: profile,
+    };
     // "DevTools listening on ws://127.0.0.1:PORT/devtools/browser/..."
     let (tx, rx) = std::sync::mpsc::channel();
     std::thread::spawn(move || {
@@ -292,7 +298,8 @@ fn the_page_in_a_real_browser() {
         eprintln!("serve_browser: SKIPPED: {why}");
         return;
     };
-    let dir = temp_dir("browser");
+    let tmp = temp_dir("browser");
+    let dir = tmp.path();
     let scene = dir.join("scene.txt");
     save(&scene, &scene_text(320, 240, "1 0 0"));
     let served = Served::start(&scene, &[]);
@@ -477,7 +484,8 @@ fn the_page_in_a_real_browser() {
     let scene1 = corpus.join("framework/scene1.txt");
     let mut scene1_times = Vec::new();
     if scene1.is_file() {
-        let copy = temp_dir("browser-scene1");
+        let copy_tmp = temp_dir("browser-scene1");
+        let copy = copy_tmp.path();
         std::fs::create_dir_all(copy.join("framework")).expect("mkdir");
         std::fs::create_dir_all(copy.join("textures")).expect("mkdir");
         for t in std::fs::read_dir(corpus.join("textures"))
@@ -524,7 +532,6 @@ fn the_page_in_a_real_browser() {
             "scene1: glint render takes {:.0} ms",
             start.elapsed().as_secs_f64() * 1e3
         );
-        let _ = std::fs::remove_dir_all(&copy);
     } else {
         eprintln!("scene1: not measured ({} is not there)", scene1.display());
     }
@@ -561,5 +568,4 @@ fn the_page_in_a_real_browser() {
         );
     }
     drop(served);
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -277,8 +277,8 @@ mod tests {
 
     #[test]
     fn bmp_rows_are_bottom_up() -> Result<(), Box<dyn std::error::Error>> {
-        let dir = std::env::temp_dir().join(format!("glint-tex-{}", std::process::id()));
-        std::fs::create_dir_all(&dir)?;
+        let tmp = tempfile::Builder::new().prefix("glint-tex-").tempdir()?;
+        let dir = tmp.path();
         let path = dir.join("t.bmp");
         // Top row red, bottom row blue, as a person sees the picture.
         let img = image::RgbImage::from_fn(1, 2, |_, y| {
@@ -292,7 +292,6 @@ mod tests {
         let t = decode_texture(&path)?;
         assert_eq!(t.sample(DVec2::new(0.0, 0.0)), DVec3::Z);
         assert_eq!(t.sample(DVec2::new(0.5, 0.0)), DVec3::X);
-        std::fs::remove_dir_all(&dir)?;
         Ok(())
     }
 }

@@ -151,8 +151,8 @@ mod tests {
     #[test]
     fn unknown_extension_is_an_error_and_writes_nothing() -> Result<(), Box<dyn std::error::Error>>
     {
-        let dir = std::env::temp_dir().join(format!("glint-out-{}", std::process::id()));
-        std::fs::create_dir_all(&dir)?;
+        let tmp = tempfile::Builder::new().prefix("glint-out-").tempdir()?;
+        let dir = tmp.path();
         let p = dir.join("x.tiff");
         let img = Image::from_fn(2, 2, |_, _| DVec3::ONE);
         assert!(matches!(img.save(&p), Err(SaveError::UnknownFormat { .. })));
@@ -164,21 +164,15 @@ mod tests {
         img.save(&p)?;
         let back = ::image::open(&p)?.to_rgb8();
         assert_eq!(back.as_raw(), &vec![255u8; 12]);
-        assert_eq!(
-            std::fs::read_dir(&dir)?.count(),
-            1,
-            "no temporary file left"
-        );
-        std::fs::remove_dir_all(&dir)?;
+        assert_eq!(std::fs::read_dir(dir)?.count(), 1, "no temporary file left");
         Ok(())
     }
 
     #[test]
     fn long_names_save_and_a_cancelled_write_leaves_nothing()
     -> Result<(), Box<dyn std::error::Error>> {
-        let dir = std::env::temp_dir().join(format!("glint-long-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir)?;
+        let tmp = tempfile::Builder::new().prefix("glint-long-").tempdir()?;
+        let dir = tmp.path();
         let img = Image::from_fn(2, 2, |_, _| DVec3::ONE);
         // 254 bytes: legal, and so must be the temporary name beside it.
         let p = dir.join(format!("{}.png", "a".repeat(250)));
@@ -188,14 +182,9 @@ mod tests {
         let cancel = AtomicBool::new(true);
         assert!(img.save_unless(&q, &cancel).is_err());
         assert!(!q.exists());
-        assert_eq!(
-            std::fs::read_dir(&dir)?.count(),
-            1,
-            "no temporary file left"
-        );
+        assert_eq!(std::fs::read_dir(dir)?.count(), 1, "no temporary file left");
         let (a, b) = (temporary_name(&p), temporary_name(&p));
         assert!(a != b && a.len() < 32, "{a} {b}");
-        std::fs::remove_dir_all(&dir)?;
         Ok(())
     }
 }

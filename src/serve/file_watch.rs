@@ -70,8 +70,8 @@ mod tests {
 
     #[test]
     fn a_write_a_rename_over_and_a_removal_are_changes() -> std::io::Result<()> {
-        let dir = std::env::temp_dir().join(format!("glint-watch-{}", std::process::id()));
-        std::fs::create_dir_all(&dir)?;
+        let tmp = tempfile::Builder::new().prefix("glint-watch-").tempdir()?;
+        let dir = tmp.path();
         let file = dir.join("a.txt");
         std::fs::write(&file, "one")?;
         let mut w = FileWatch::default();
@@ -90,6 +90,6 @@ mod tests {
         assert!(!w.changed());
         std::fs::write(&file, "back")?;
         assert!(w.changed());
-        std::fs::remove_dir_all(&dir)
+        Ok(())
     }
 }

@@ -8,13 +8,14 @@ use crate::Scene;
 use crate::geometry::{Hit, Ray, Shape, Sphere, SurfacePoint, Triangle};
 use crate::scene::{Diagnostic, SceneError, Severity};
 use glam::{DVec2, DVec3};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-/// A fresh temporary folder.
-fn temp_dir(what: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("glint-lin-{what}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
-    dir
+/// A fresh temporary folder, removed when dropped (a failing test's too).
+fn temp_dir(what: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("glint-lin-{what}-"))
+        .tempdir()
+        .unwrap() // invariant: a test's scratch folder (a failure fails the test)
 }
 
 fn parse_in(dir: &Path, text: &str) -> Result<Scene, SceneError> {
@@ -163,10 +164,11 @@ fn write_bmp(path: &Path, rgb: [u8; 3]) {
 /// error naming it at its line, and kinds without a frame warn and drop it.
 #[test]
 fn nt_is_a_material_key_with_file_errors_and_frames() {
-    let dir = temp_dir("nt");
+    let tmp = temp_dir("nt");
+    let dir = tmp.path();
     write_bmp(&dir.join("n.bmp"), [255, 128, 128]);
     let s = ok_in(
-        &dir,
+        dir,
         "primitive NomalBall\n O= 0 0 0\n R= 1\n NT= n.bmp\nend\n\
          primitive NomalPlane\n N= 0 0 1\n R= -1\n NT= n.bmp\nend\n\
          primitive sphere\n O= 3 0 0\n R= 1\n NT= n.bmp\nend\n",
@@ -178,7 +180,7 @@ fn nt_is_a_material_key_with_file_errors_and_frames() {
     }
     assert_eq!(s.textures().len(), 1, "one file, decoded once");
     let e = errors_in(
-        &dir,
+        dir,
         "primitive sphere\n O= 0 0 0\n R= 1\n NT= absent.bmp\nend\n",
     );
     assert_eq!(e.len(), 1);
@@ -189,7 +191,7 @@ fn nt_is_a_material_key_with_file_errors_and_frames() {
     );
     // A cube has no frame: warned, drawn without the map.
     let s = ok_in(
-        &dir,
+        dir,
         "primitive cube\n O= 0 0 0\n x= 1\n y= 1\n z= 1\n NT= n.bmp\nend\n",
     );
     assert_eq!(s.objects().len(), 1);
@@ -198,7 +200,7 @@ fn nt_is_a_material_key_with_file_errors_and_frames() {
     assert!(w.len() == 1 && w[0].contains("tangent frame"), "{w:?}");
     // Without NT=, V's kinds draw their plain shape and warn.
     let s = ok_in(
-        &dir,
+        dir,
         "primitive NomalBall\n O= 0 0 0\n R= 1\nend\nprimitive NomalPlane\n N= 0 0 1\n R= 0\nend\n",
     );
     assert!(matches!(s.objects()[0].shape(), Shape::Sphere(_)));
@@ -208,7 +210,6 @@ fn nt_is_a_material_key_with_file_errors_and_frames() {
         w.len() == 2 && w.iter().all(|m| m.contains("without `NT=`")),
         "{w:?}"
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// V's `Bezier` is the `bezier` surface with O1 = O + 38·ratio·ẑ, O2 = O
@@ -302,11 +303,12 @@ newmtl glass\nKd 0.8 0.8 0.8\nTf 0.5 0.75 1\nNi 1.5\nmap_bump bump.bmp\n";
 /// any `usemtl`, and after an unknown one (warned), keep the block's.
 #[test]
 fn polyhedron_faces_take_their_mtl_materials() {
-    let dir = temp_dir("mtl");
+    let tmp = temp_dir("mtl");
+    let dir = tmp.path();
     std::fs::write(dir.join("m.obj"), OBJ).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     std::fs::write(dir.join("m.mtl"), MTL).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     let s = ok_in(
-        &dir,
+        dir,
         "primitive polyhedron\n mesh= m.obj\n color= 0 1 0\n diff= 0.9\nend\n",
     );
     let m: Vec<_> = s.objects().iter().map(|o| s.material_of(o)).collect();
@@ -331,7 +333,6 @@ fn polyhedron_faces_take_their_mtl_materials() {
             .any(|m| m.contains("bump.bmp") && m.contains("not rendered")),
         "{w:?}"
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// A missing mesh, MTL file or `map_Kd` texture is an error at the
@@ -339,15 +340,16 @@ fn polyhedron_faces_take_their_mtl_materials() {
 /// names it); a bad MTL value names its line.
 #[test]
 fn polyhedron_missing_files_are_errors_naming_them() {
-    let dir = temp_dir("missing");
+    let tmp = temp_dir("missing");
+    let dir = tmp.path();
     let block = "primitive polyhedron\n O= 0 0 0\n mesh= m.obj\nend\n";
-    let e = errors_in(&dir, block);
+    let e = errors_in(dir, block);
     assert!(
         e.len() == 1 && e[0].line == 3 && e[0].message.contains("m.obj"),
         "{e:?}"
     );
     std::fs::write(dir.join("m.obj"), OBJ).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
-    let e = errors_in(&dir, block);
+    let e = errors_in(dir, block);
     assert!(e.len() == 1 && e[0].line == 3, "{e:?}");
     assert!(
         e[0].message.contains("m.mtl") && e[0].message.contains("line 1"),
@@ -355,31 +357,30 @@ fn polyhedron_missing_files_are_errors_naming_them() {
         e[0]
     );
     std::fs::write(dir.join("m.mtl"), "newmtl red\nmap_Kd absent.bmp\n").unwrap(); // invariant: the test's own fixed input (a failure fails the test)
-    let e = errors_in(&dir, block);
+    let e = errors_in(dir, block);
     assert!(
         e.len() == 1 && e[0].line == 3 && e[0].message.contains("absent.bmp"),
         "{e:?}"
     );
     std::fs::write(dir.join("m.mtl"), "newmtl red\nKs\n").unwrap(); // invariant: the test's own fixed input (a failure fails the test)
-    let e = errors_in(&dir, block);
+    let e = errors_in(dir, block);
     assert!(e.len() == 1 && e[0].message.contains("line 2"), "{e:?}");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn meshes_with_comments_in_a_local_encoding_load() {
     // PM3's dragon2.obj has a GBK comment on its second line.
-    let dir = temp_dir("gbk");
+    let tmp = temp_dir("gbk");
+    let dir = tmp.path();
     let mut obj =
         b"# exporter\r\n# \xb4\xb4\xbd\xa8: 21.06\r\nv 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nf 1 2 3\r\n"
             .to_vec();
     std::fs::write(dir.join("g.obj"), &obj).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
-    let s = ok_in(&dir, "primitive polyhedron\n mesh= g.obj\nend\n");
+    let s = ok_in(dir, "primitive polyhedron\n mesh= g.obj\nend\n");
     assert_eq!(s.objects().len(), 1);
     // A bad byte outside a comment is still an error at its line.
     obj.extend_from_slice(b"f 1 2 \xb4\r\n");
     std::fs::write(dir.join("g.obj"), &obj).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
-    let e = errors_in(&dir, "primitive polyhedron\n mesh= g.obj\nend\n");
+    let e = errors_in(dir, "primitive polyhedron\n mesh= g.obj\nend\n");
     assert!(e[0].message.contains("line 7"), "{}", e[0]);
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -10,11 +10,13 @@ use glam::DVec3;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 
-/// A fresh temporary folder for this test process.
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("glint-obj-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
-    dir
+/// A fresh temporary folder for one test, removed when dropped (a failing
+/// test's too).
+fn temp_dir(name: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("glint-obj-{name}-"))
+        .tempdir()
+        .unwrap() // invariant: a test's scratch folder (a failure fails the test)
 }
 
 fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
@@ -25,9 +27,10 @@ fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
 
 #[test]
 fn obj_transform_order_normals_and_degenerates() {
-    let dir = temp_dir("obj");
+    let tmp = temp_dir("obj");
+    let dir = tmp.path();
     let path = write(
-        &dir,
+        dir,
         "two.obj",
         "# a quad, a smooth triangle in a second object, a degenerate one\n\
          mtllib missing.mtl\n\
@@ -85,15 +88,15 @@ fn obj_transform_order_normals_and_degenerates() {
     let hit = smooth.intersect(&r, 0.0, INF).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     let s = smooth.surface(&r, &hit);
     assert!(s.normal.dot(ns[0]) > 0.99);
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn obj_winding_follows_normals_and_mirroring_keeps_outside() {
-    let dir = temp_dir("wind");
+    let tmp = temp_dir("wind");
+    let dir = tmp.path();
     // Winding says +z, the vertex normals say −z: the normals win.
     let path = write(
-        &dir,
+        dir,
         "w.obj",
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 -1\nf 1//1 2//1 3//1\n",
     );
@@ -104,17 +107,17 @@ fn obj_winding_follows_normals_and_mirroring_keeps_outside() {
     assert_vclose(s.normal, -DVec3::Z, 1e-15);
     assert_vclose(s.shading_normal, -DVec3::Z, 1e-15);
     // No normals, mirrored in x: the plane z = 0 keeps its +z outside.
-    let path = write(&dir, "m.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    let path = write(dir, "m.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     let tris = load_obj(&path, DVec3::ZERO, v(-1.0, 1.0, 1.0), DVec3::ZERO).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     let r = Ray::new(v(-0.2, 0.2, 1.0), -DVec3::Z);
     let h = tris[0].intersect(&r, 0.0, INF).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     assert_vclose(tris[0].surface(&r, &h).normal, DVec3::Z, 1e-15);
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn obj_errors_are_messages_not_panics() {
-    let dir = temp_dir("err");
+    let tmp = temp_dir("err");
+    let dir = tmp.path();
     let missing = dir.join("nope.obj");
     let e = load_obj(&missing, DVec3::ZERO, DVec3::ONE, DVec3::ZERO).unwrap_err();
     assert!(e.contains("nope.obj"), "{e}");
@@ -126,7 +129,7 @@ fn obj_errors_are_messages_not_panics() {
         ("garbage.obj", "v 0 zero 0\nf 1 2 3\n"),
         ("empty.obj", ""),
     ] {
-        let p = write(&dir, name, text);
+        let p = write(dir, name, text);
         let e = load_obj(&p, DVec3::ZERO, DVec3::ONE, DVec3::ZERO).unwrap_err();
         assert!(e.contains(name), "{name}: {e}");
     }
@@ -135,7 +138,7 @@ fn obj_errors_are_messages_not_panics() {
         ("v 0 0 0\nv 1 0 0\n# c\nv 0 zero 0\nf 1 2 3\n", "line 4:"),
         ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nvn 1 x 0", "line 5:"),
     ] {
-        let p = write(&dir, "line.obj", text);
+        let p = write(dir, "line.obj", text);
         let e = load_obj(&p, DVec3::ZERO, DVec3::ONE, DVec3::ZERO).unwrap_err();
         assert!(e.contains(line), "{text:?}: {e}");
     }
@@ -147,13 +150,12 @@ fn obj_errors_are_messages_not_panics() {
     std::fs::write(&p, vec![0u8; (1 << 20) + 10]).unwrap(); // invariant: the test's own fixed input (a failure fails the test)
     let e = load_obj(&p, DVec3::ZERO, DVec3::ONE, DVec3::ZERO).unwrap_err();
     assert!(e.contains("line 1 is longer than 1 MiB"), "{e}");
-    let e = load_obj(&dir, DVec3::ZERO, DVec3::ONE, DVec3::ZERO).unwrap_err();
+    let e = load_obj(dir, DVec3::ZERO, DVec3::ONE, DVec3::ZERO).unwrap_err();
     assert!(e.contains("is a directory"), "{e}");
     // A flattening scale: every triangle degenerate → an error, no NaN triangles.
-    let p = write(&dir, "ok.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    let p = write(dir, "ok.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     assert!(load_obj(&p, DVec3::ZERO, v(1.0, 1.0, 0.0), DVec3::ZERO).is_ok());
     assert!(load_obj(&p, DVec3::ZERO, v(1.0, 0.0, 1.0), DVec3::ZERO).is_err());
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]

@@ -1,0 +1,268 @@
+//! `glint render`: a scene to an image, with a progress bar and a summary.
+
+use crate::args::{DialectArg, PhotonArgs, PixelArgs, at_least_one, thread_count};
+use crate::memory::{memory_available, memory_held};
+use crate::{
+    Failure, check_interrupt, fail, load_scene, refuse_scene_as_output, render_failure, say,
+};
+use glint::{Aov, Control, Film, Format, Region, RenderOptions, Renderer};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+/// The arguments of `glint render`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// The scene file.
+    scene: PathBuf,
+    /// Output image; the format follows the extension [default: the scene's name with .png]
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Worker threads, 1 to 1024 [default: one per core]
+    #[arg(long, value_parser = thread_count)]
+    threads: Option<usize>,
+    #[command(flatten)]
+    pixels: PixelArgs,
+    /// No progress bar, no summary (warnings and errors are still printed).
+    #[arg(short, long)]
+    quiet: bool,
+    /// Also print notes (where textures were found) and a breakdown of the rays.
+    #[arg(short, long)]
+    verbose: bool,
+    /// AOVs (arbitrary output values) to write beside the picture,
+    /// comma-separated: normal, depth, position, uv, primitive, albedo, rays,
+    /// light:N, shade, why, clamp, cost, photons (layers of an .exr; else
+    /// OUT.AOV.EXT files).
+    #[arg(long)]
+    aov: Option<String>,
+    /// Render only columns X0..X1 and rows Y0..Y1 (ends excluded, rows from
+    /// the top): `X0,Y0,X1,Y1`; its pixels are those of the whole render.
+    #[arg(long, value_parser = region)]
+    region: Option<Region>,
+    /// PPM and SPPM: write the picture every N iterations (atomically; Ctrl-C
+    /// writes the last complete iteration).
+    #[arg(long, default_value_t = 10, value_parser = at_least_one::<u64>)]
+    checkpoint: u64,
+    #[command(flatten)]
+    dialect: DialectArg,
+    #[command(flatten)]
+    photons: PhotonArgs,
+}
+
+/// Parses `--region X0,Y0,X1,Y1` (ends excluded).
+fn region(s: &str) -> Result<Region, String> {
+    let n: Vec<u32> = s
+        .split(',')
+        .map(|v| {
+            v.trim()
+                .parse::<u32>()
+                .map_err(|e| format!("`{}` is not a pixel coordinate: {e}", v.trim()))
+        })
+        .collect::<Result<_, _>>()?;
+    let [x0, y0, x1, y1] = n[..] else {
+        return Err("expected `X0,Y0,X1,Y1`, e.g. `--region 0,0,64,48`".to_string());
+    };
+    if x1 <= x0 || y1 <= y0 {
+        return Err(format!(
+            "the region is empty: X1 must exceed X0 and Y1 exceed Y0 (got {s})"
+        ));
+    }
+    Ok(Region {
+        x: x0,
+        y: y0,
+        width: x1 - x0,
+        height: y1 - y0,
+    })
+}
+
+/// Renders, writing the picture (and its AOVs), checkpoints of PPM and
+/// SPPM on the way, and the summary unless quiet.
+pub fn exec(args: Args, interrupt: &AtomicBool) -> Result<(), Failure> {
+    let start = Instant::now();
+    let output = args.output.clone().unwrap_or_else(|| {
+        let stem = args.scene.file_stem().unwrap_or_default();
+        PathBuf::from(stem).with_extension("png")
+    });
+    // Fail on the output path before spending the render time.
+    refuse_scene_as_output(&args.scene, &output)?;
+    let scene = load_scene(&args.scene, args.dialect.dialect, !args.quiet)?;
+    Format::from_path(&output).map_err(|e| fail(format!("error: {e}")))?;
+    if args.verbose {
+        for note in scene.notes() {
+            say(&format!("note: {note}"));
+        }
+    }
+    let options = args.pixels.apply(RenderOptions {
+        threads: args.threads,
+        region: args.region,
+        aovs: match &args.aov {
+            Some(list) => Aov::parse_list(list).map_err(|e| fail(format!("error: --aov: {e}")))?,
+            None => Vec::new(),
+        },
+        photons: args.photons.options(),
+        ..RenderOptions::default()
+    });
+    check_interrupt(interrupt)?;
+    let renderer = Renderer::new(scene);
+    if !args.quiet {
+        for note in renderer.photon_notes(&options) {
+            say(&format!("{}: {note}", args.scene.display()));
+        }
+    }
+    let (w, h) = renderer.frame_size(&options).map_err(render_failure)?;
+    check_memory(&renderer, &options, args.verbose)?;
+    warn_if_slow(&renderer, &options, &args.scene)?;
+    check_interrupt(interrupt)?;
+
+    let bar = if args.quiet || !std::io::stderr().is_terminal() {
+        ProgressBar::hidden()
+    } else {
+        let bar = ProgressBar::with_draw_target(Some(1), ProgressDrawTarget::stderr());
+        if let Ok(style) = ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] [{wide_bar}] {percent:>3}% ETA {eta}",
+        ) {
+            bar.set_style(style.progress_chars("=> "));
+        }
+        bar
+    };
+    let progress = |done, total| {
+        bar.set_length(total);
+        bar.set_position(done);
+    };
+    // PPM and SPPM checkpoints: the picture so far, written atomically
+    // (AOVs and EXR layers are written at the end only).
+    let never = AtomicBool::new(false);
+    let checkpoint = |_: u64, film: &Film| {
+        if let Err(e) = film.image().save_unless(&output, &never) {
+            bar.suspend(|| say(&format!("warning: cannot write the checkpoint: {e}")));
+        }
+    };
+    let control = Control {
+        progress: Some(&progress),
+        cancel: Some(interrupt),
+        checkpoint: Some(&checkpoint),
+        checkpoint_every: args.checkpoint,
+    };
+    let rendered = renderer.render_with(&options, control);
+    bar.finish_and_clear();
+    let (film, stats) = rendered.map_err(render_failure)?;
+    if interrupt.load(Ordering::Relaxed) && stats.photons.iterations > 0 {
+        // Stopped between iterations: the last complete one is the picture.
+        film.image()
+            .save_unless(&output, &never)
+            .map_err(|e| fail(format!("error: cannot write the image: {e}")))?;
+        say(&format!(
+            "{}: interrupted: wrote iteration {} of {}",
+            output.display(),
+            stats.photons.iterations,
+            stats.photons.planned
+        ));
+        return Err(Failure::Interrupted);
+    }
+    let cannot = |e: glint::SaveError| fail(format!("error: cannot write the image: {e}"));
+    let exr = Format::from_path(&output).is_ok_and(|f| f == Format::Exr);
+    if exr && !options.aovs.is_empty() {
+        let saved = glint::save_exr_layers(&film, &output, interrupt);
+        check_interrupt(interrupt)?;
+        saved.map_err(cannot)?;
+    } else {
+        let saved = film.image().save_unless(&output, interrupt);
+        check_interrupt(interrupt)?;
+        saved.map_err(cannot)?;
+        if !options.aovs.is_empty() {
+            let table = renderer.primitive_table();
+            let file = renderer.scene_file();
+            let saved = glint::save_aov_images(&film, &output, &table, file.as_deref(), interrupt);
+            check_interrupt(interrupt)?;
+            saved.map_err(cannot)?;
+        }
+    }
+    if !args.quiet {
+        let r = stats.rays;
+        say(&format!(
+            "{}: {}x{}, {:.3} s wall ({:.3} s render, {:.3} s BVH), {:.1} M rays, {:.1} Mrays/s",
+            output.display(),
+            w,
+            h,
+            start.elapsed().as_secs_f64(),
+            (stats.elapsed + stats.build).as_secs_f64(),
+            stats.build.as_secs_f64(),
+            r.total() as f64 / 1e6,
+            stats.mrays_per_sec()
+        ));
+        if args.verbose {
+            say(&format!(
+                "rays: camera {}, reflected {}, refracted {}, shadow {}; {} pixels anti-aliased",
+                r.camera, r.reflected, r.refracted, r.shadow, stats.refined_pixels
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Rays past which a render is said, before it starts, to take over a
+/// minute (at about 10 Mrays/s).
+const SLOW_RAYS: u64 = 600_000_000;
+
+/// Warns before a render that will take long, naming what drives its cost.
+fn warn_if_slow(renderer: &Renderer, options: &RenderOptions, scene: &Path) -> Result<(), Failure> {
+    let work = renderer.estimate(options).map_err(render_failure)?;
+    if work.rays > SLOW_RAYS {
+        say(&format!(
+            "warning: {}: this render traces about {:.1e} rays, {} at 10 Mrays/s; \
+             driven by {}\n",
+            scene.display(),
+            work.rays as f64,
+            duration(work.rays as f64 / 1e7),
+            work.drivers
+                .iter()
+                .map(|d| d.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+    }
+    Ok(())
+}
+
+/// Seconds as people say them: "3 minutes", "2.5 hours".
+fn duration(seconds: f64) -> String {
+    match seconds {
+        s if s < 120.0 => format!("about {s:.0} s"),
+        s if s < 7200.0 => format!("about {:.0} minutes", s / 60.0),
+        s if s < 172_800.0 => format!("about {:.1} hours", s / 3600.0),
+        s => format!("about {:.0} days", s / 86400.0),
+    }
+}
+
+/// Refuses a render whose buffers would not fit in the memory available
+/// now; with `verbose`, says the bound.
+fn check_memory(
+    renderer: &Renderer,
+    options: &RenderOptions,
+    verbose: bool,
+) -> Result<(), Failure> {
+    let need = renderer.memory_needed(options).map_err(render_failure)?;
+    let mib = |b: u64| b as f64 / (1u64 << 20) as f64;
+    if verbose && let Some(held) = memory_held() {
+        say(&format!(
+            "note: memory: at most {:.1} MiB at the peak ({:.1} MiB held now, at most {:.1} MiB more for the render)",
+            mib(held.saturating_add(need)),
+            mib(held),
+            mib(need)
+        ));
+    }
+    let gib = |b: u64| b as f64 / (1u64 << 30) as f64;
+    match memory_available() {
+        Some(avail) if need > avail => {
+            let (w, h) = renderer.frame_size(options).map_err(render_failure)?;
+            Err(fail(format!(
+                "error: a {w}x{h} render needs up to {:.1} GiB of memory, but only {:.1} GiB is available: render smaller, with fewer AOVs, or (photon mapping) fewer photons (`--emit`) or hit points (`max_hitpoints=`)",
+                gib(need),
+                gib(avail),
+            )))
+        }
+        _ => Ok(()),
+    }
+}
