@@ -68,19 +68,8 @@ impl PhotonArgs {
 pub struct DialectArg {
     /// The lineage whose renderer's model draws the file: f, z14, pm3, v or w
     /// (or a repository's name) [default: chosen by the file's markers]
-    #[arg(long, value_parser = dialect)]
+    #[arg(long)]
     pub dialect: Option<Dialect>,
-}
-
-/// Parses `--dialect NAME`.
-fn dialect(s: &str) -> Result<Dialect, String> {
-    Dialect::from_name(s).ok_or_else(|| {
-        let names: Vec<&str> = Dialect::ALL.iter().map(|d| d.name()).collect();
-        format!(
-            "unknown dialect `{s}`: expected one of {}",
-            names.join(", ")
-        )
-    })
 }
 
 /// Parses a whole number that must be at least 1 (`--spp`, `--threads`);

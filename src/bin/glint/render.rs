@@ -39,7 +39,7 @@ pub struct Args {
     aov: Option<String>,
     /// Render only columns X0..X1 and rows Y0..Y1 (ends excluded, rows from
     /// the top): `X0,Y0,X1,Y1`; its pixels are those of the whole render.
-    #[arg(long, value_parser = region)]
+    #[arg(long)]
     region: Option<Region>,
     /// PPM and SPPM: write the picture every N iterations (atomically; Ctrl-C
     /// writes the last complete iteration).
@@ -49,32 +49,6 @@ pub struct Args {
     dialect: DialectArg,
     #[command(flatten)]
     photons: PhotonArgs,
-}
-
-/// Parses `--region X0,Y0,X1,Y1` (ends excluded).
-fn region(s: &str) -> Result<Region, String> {
-    let n: Vec<u32> = s
-        .split(',')
-        .map(|v| {
-            v.trim()
-                .parse::<u32>()
-                .map_err(|e| format!("`{}` is not a pixel coordinate: {e}", v.trim()))
-        })
-        .collect::<Result<_, _>>()?;
-    let [x0, y0, x1, y1] = n[..] else {
-        return Err("expected `X0,Y0,X1,Y1`, e.g. `--region 0,0,64,48`".to_string());
-    };
-    if x1 <= x0 || y1 <= y0 {
-        return Err(format!(
-            "the region is empty: X1 must exceed X0 and Y1 exceed Y0 (got {s})"
-        ));
-    }
-    Ok(Region {
-        x: x0,
-        y: y0,
-        width: x1 - x0,
-        height: y1 - y0,
-    })
 }
 
 /// Renders, writing the picture (and its AOVs), checkpoints of PPM and
