@@ -25,67 +25,75 @@ const MAX_DEPTH: u32 = 48;
 /// narrower than 2⁻⁴⁸ are visited once. Roots on interval ends may be
 /// visited twice.
 #[inline]
-pub fn visit_roots<S: Store>(
+pub fn visit_roots<S: Store, V: FnMut(f64) -> Flow>(
     store: &mut S,
     c: &S::Poly,
     forward: bool,
-    visit: &mut impl FnMut(f64) -> Flow,
+    visit: &mut V,
 ) -> Flow {
-    search(store, c, (0.0, 1.0), forward, 0, visit)
+    Search {
+        store,
+        forward,
+        visit,
+    }
+    .run(c, (0.0, 1.0), 0)
 }
 
-/// [`visit_roots`] on `c`, the polynomial on the interval `(xa, xb)` of the
-/// original, `depth` halvings down.
-fn search<S: Store>(
-    store: &mut S,
-    c: &S::Poly,
-    (xa, xb): (f64, f64),
+/// One root search: the store its halves go in, the direction and the
+/// visitor, shared by every level of the subdivision (one pointer a level).
+struct Search<'a, S, V> {
+    store: &'a mut S,
     forward: bool,
-    depth: u32,
-    visit: &mut impl FnMut(f64) -> Flow,
-) -> Flow {
-    let m = store.degree();
-    let (c0, cm) = {
-        let c = store.coefs(c);
-        (c[0], c[m])
-    };
-    let (first, last) = if forward { (xa, xb) } else { (xb, xa) };
-    let (c_first, c_last) = if forward { (c0, cm) } else { (cm, c0) };
-    if c_first == 0.0 && visit(first) == Flow::Stop {
-        return Flow::Stop;
-    }
-    let changes = sign_changes(store.coefs(c));
-    if changes == 1 && c0 != 0.0 && cm != 0.0 {
-        let x = bracketed_root(store, c);
-        if visit(xa + x * (xb - xa)) == Flow::Stop {
+    visit: &'a mut V,
+}
+
+impl<S: Store, V: FnMut(f64) -> Flow> Search<'_, S, V> {
+    /// The roots of `c`, the polynomial on the interval `(xa, xb)` of the
+    /// original, `depth` halvings down.
+    fn run(&mut self, c: &S::Poly, (xa, xb): (f64, f64), depth: u32) -> Flow {
+        let (forward, m) = (self.forward, self.store.degree());
+        let (c0, cm) = {
+            let c = self.store.coefs(c);
+            (c[0], c[m])
+        };
+        let (first, last) = if forward { (xa, xb) } else { (xb, xa) };
+        let (c_first, c_last) = if forward { (c0, cm) } else { (cm, c0) };
+        if c_first == 0.0 && (self.visit)(first) == Flow::Stop {
             return Flow::Stop;
         }
-    } else if changes >= 1 {
-        if depth >= MAX_DEPTH {
-            if visit(0.5 * (xa + xb)) == Flow::Stop {
+        let changes = sign_changes(self.store.coefs(c));
+        if changes == 1 && c0 != 0.0 && cm != 0.0 {
+            let x = bracketed_root(self.store, c);
+            if (self.visit)(xa + x * (xb - xa)) == Flow::Stop {
                 return Flow::Stop;
             }
-        } else {
-            let halves = store.halve(c);
-            let xm = 0.5 * (xa + xb);
-            let [left, right] = &halves;
-            let ((near, near_span), (far, far_span)) = if forward {
-                ((left, (xa, xm)), (right, (xm, xb)))
+        } else if changes >= 1 {
+            if depth >= MAX_DEPTH {
+                if (self.visit)(0.5 * (xa + xb)) == Flow::Stop {
+                    return Flow::Stop;
+                }
             } else {
-                ((right, (xm, xb)), (left, (xa, xm)))
-            };
-            let stop = search(store, near, near_span, forward, depth + 1, visit) == Flow::Stop
-                || search(store, far, far_span, forward, depth + 1, visit) == Flow::Stop;
-            store.release(halves);
-            if stop {
-                return Flow::Stop;
+                let halves = self.store.halve(c);
+                let xm = 0.5 * (xa + xb);
+                let [left, right] = &halves;
+                let ((near, near_span), (far, far_span)) = if forward {
+                    ((left, (xa, xm)), (right, (xm, xb)))
+                } else {
+                    ((right, (xm, xb)), (left, (xa, xm)))
+                };
+                let stop = self.run(near, near_span, depth + 1) == Flow::Stop
+                    || self.run(far, far_span, depth + 1) == Flow::Stop;
+                self.store.release(halves);
+                if stop {
+                    return Flow::Stop;
+                }
             }
         }
+        if c_last == 0.0 && (self.visit)(last) == Flow::Stop {
+            return Flow::Stop;
+        }
+        Flow::Continue
     }
-    if c_last == 0.0 && visit(last) == Flow::Stop {
-        return Flow::Stop;
-    }
-    Flow::Continue
 }
 
 /// Sign changes in the coefficient sequence, zeros skipped: an upper bound
