@@ -20,6 +20,7 @@ mod support;
 use serde_json::{Value, json};
 use std::io::{BufRead, BufReader};
 use std::net::TcpStream;
+use std::os::unix::process::CommandExt;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
@@ -57,13 +58,24 @@ fn now_ms() -> f64 {
 struct Browser {
     child: Child,
     /// Removed when dropped, after the browser is gone.
-    _profile: tempfile::TempDir,
+    profile: tempfile::TempDir,
 }
 
 impl Drop for Browser {
+    /// Kills the browser's whole process group (its renderer and utility
+    /// processes too: left alone, they write into the profile after it is
+    /// removed), then removes the profile, trying again for 5 s while
+    /// their last writes land.
     fn drop(&mut self) {
+        let group = format!("-{}", self.child.id());
+        let _ = Command::new("kill").args(["-KILL", "--", &group]).status();
         let _ = self.child.kill();
         let _ = self.child.wait();
+        let start = Instant::now();
+        while self.profile.path().exists() && start.elapsed() < Duration::from_secs(5) {
+            let _ = std::fs::remove_dir_all(self.profile.path());
+            std::thread::sleep(Duration::from_millis(50));
+        }
     }
 }
 
@@ -192,15 +204,14 @@ fn launch(browser: &Path) -> (Browser, Cdp) {
         // Its singleton folder (org.chromium.Chromium.*), which a killed
         // browser leaves behind, goes into the profile folder too.
         .env("TMPDIR", profile.path())
+        // A process group of its own, killed whole when dropped.
+        .process_group(0)
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()
         .expect("chromium starts");
     let stderr = child.stderr.take().expect("stderr");
-    let browser = Browser {
-        child,
-        _profile: profile,
-    };
+    let browser = Browser { child, profile };
     // "DevTools listening on ws://127.0.0.1:PORT/devtools/browser/..."
     let (tx, rx) = std::sync::mpsc::channel();
     std::thread::spawn(move || {
