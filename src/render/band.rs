@@ -13,6 +13,7 @@ use glam::DVec3;
 
 /// What pass 1 over a region's bands shares.
 pub(super) struct Pass1<'p> {
+    /// The frame's samples.
     pub frame: &'p Frame<'p>,
     /// The pixels pass 1 covers (the region and its halo).
     pub area: Region,
@@ -20,7 +21,9 @@ pub(super) struct Pass1<'p> {
     pub spp: Option<u32>,
     /// Whether the anti-aliasing's hash is kept (pass 2 follows).
     pub adaptive: bool,
+    /// What is kept besides the colours.
     pub keep: Keep<'p>,
+    /// Where the camera rays done are counted.
     pub progress: &'p Progress<'p>,
 }
 

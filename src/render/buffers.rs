@@ -40,12 +40,17 @@ pub(crate) struct Rendered {
 /// Every per-pixel buffer of the passes over `area` (a region and, with
 /// the adaptive anti-aliasing, its halo); those not kept are empty.
 pub(super) struct Buffers {
+    /// The pixels they hold: the region, and its halo when anti-aliased.
     pub area: Region,
+    /// The colours.
     pub pixels: Vec<[f32; 3]>,
+    /// The anti-aliasing's hashes of pass 1's centre samples.
     pub hashes: Vec<u32>,
+    /// Rays traced a pixel.
     pub counts: Vec<u32>,
     /// The shading AOVs' values, `channels` a pixel each.
     pub shaded: Vec<(Aov, Vec<f32>)>,
+    /// The queries each pixel's samples made.
     pub costs: Vec<QueryCost>,
     keep_rays: bool,
     keep_shading: bool,
@@ -57,6 +62,7 @@ pub(super) struct Buffers {
 pub(super) struct Band<'b> {
     /// Its first row in the frame.
     pub y0: usize,
+    /// Its rows of each buffer, as in [`Buffers`].
     pub pixels: &'b mut [[f32; 3]],
     pub hashes: &'b mut [u32],
     pub counts: &'b mut [u32],
