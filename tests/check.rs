@@ -124,6 +124,77 @@ fn lights_and_the_camera_inside_objects() {
     );
 }
 
+/// The inside test, whatever other surfaces touch the object: a ball
+/// resting on the floor (the ray down meets the ball's bottom and the
+/// floor at one distance), a cube resting on another (shared faces),
+/// nested objects (the innermost is named), and the outsides of each.
+#[test]
+fn inside_whatever_touches_it() {
+    let light_at = |o: &str| format!("light point\n O= {o}\n color= 1 1 1\nend\n");
+    let found = |blocks: &str, light: &str| {
+        let text = format!(
+            "background\n color= 0.1 0.1 0.1\nend\n{CAMERA}{}{FLOOR}{blocks}",
+            light_at(light)
+        );
+        let codes: Vec<(Code, Option<u32>)> = findings(&text)
+            .into_iter()
+            .filter(|f| matches!(f.0, Code::LightInsideObject | Code::LightInsideGlass))
+            .collect();
+        (codes, text)
+    };
+    // A ball resting on the floor, the light at its centre.
+    let resting = "primitive sphere\n O= 2 0 1\n R= 1\n color= 1 1 1\n diff= 0.5\nend\n";
+    let (codes, text) = found(resting, "2 0 1");
+    assert_eq!(
+        codes,
+        vec![(Code::LightInsideObject, line_of(&text, "light", 0))]
+    );
+    // Beside it, on the floor's side: outside.
+    assert_eq!(found(resting, "2 0 -0.5").0, vec![]);
+    assert_eq!(found(resting, "3.5 0 0.5").0, vec![]);
+    // A cube resting on the floor, another on it (a shared face), the light
+    // in the upper one, then in the lower one.
+    let stack = "primitive cube\n O= -2 0 0.5\n x= 0.5\n y= 0.5\n z= 0.5\n color= 1 1 1\n diff= 0.5\nend\n\
+                 primitive cube\n O= -2 0 1.5\n x= 0.5\n y= 0.5\n z= 0.5\n color= 1 1 1\n diff= 0.5\nend\n";
+    let (codes, _) = found(stack, "-2 0 1.5");
+    assert_eq!(codes.len(), 1, "{codes:?}");
+    let (codes, _) = found(stack, "-2 0 0.5");
+    assert_eq!(codes.len(), 1, "{codes:?}");
+    // Which block is named: the upper cube for a light in it.
+    let scene = Scene::parse(
+        &format!(
+            "background\n color= 0.1 0.1 0.1\nend\n{CAMERA}{}{FLOOR}{stack}",
+            light_at("-2 0 1.5")
+        ),
+        ".",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let report = check(&Renderer::new(scene));
+    let inside: Vec<&glint::Finding> = report
+        .findings
+        .iter()
+        .filter(|f| f.code == Code::LightInsideObject)
+        .collect();
+    assert!(
+        inside[0].message.contains("cube #2"),
+        "{}",
+        inside[0].message
+    );
+    // A small glass ball in a big one, the light in the small one: the
+    // innermost is named.
+    let nested = "primitive sphere\n O= 0 3 3\n R= 2.5\n color= 1 1 1\n diff= 0.5\nend\n\
+                  primitive sphere\n O= 1 3 3\n R= 0.5\n refr= 1\n rindex= 1.5\nend\n";
+    let (codes, _) = found(nested, "1 3 3");
+    assert_eq!(
+        codes.iter().map(|c| c.0).collect::<Vec<_>>(),
+        vec![Code::LightInsideGlass]
+    );
+    // Between two balls that touch (a room of several objects): outside.
+    let touching = "primitive sphere\n O= -1 3 3\n R= 1\n color= 1 1 1\n diff= 0.5\nend\n\
+                    primitive sphere\n O= 1 3 3\n R= 1\n color= 1 1 1\n diff= 0.5\nend\n";
+    assert_eq!(found(touching, "0 3 4.5").0, vec![]);
+}
+
 #[test]
 fn the_view() {
     let behind = "primitive sphere\n O= 0 -12 2\n R= 0.5\n color= 1 1 1\n diff= 0.5\nend\n";

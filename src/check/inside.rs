@@ -1,14 +1,17 @@
 //! Lights and the camera inside closed objects. A point is inside block b
-//! when every one of 14 rays from it (the axes and the diagonals) first
-//! meets a primitive surface on its back, always b's: a room made of
-//! several objects (the framework's Cornell box of huge spheres) is not
-//! one object, and an open shape lets some ray out.
+//! when every one of 14 rays from it (the axes and the diagonals) leaves
+//! b's own surfaces by their back, and that is the first surface the ray
+//! meets, or one of those it meets first at the same distance (to 1e-9
+//! relative): the floor a ball rests on, a neighbour sharing a face. A
+//! room made of several objects (the framework's Cornell box of huge
+//! spheres, each of which holds the room) is not one object: some ray
+//! meets another wall first. An open shape lets some ray out.
 
 use super::finding::{Code, Findings};
 use super::primitive_blocks::{PrimitiveBlock, name};
-use crate::geometry::Ray;
+use crate::geometry::{Hit, Ray};
 use crate::render::Renderer;
-use crate::scene::{LightKind, Origin};
+use crate::scene::LightKind;
 use glam::DVec3;
 
 /// The directions the test looks in.
@@ -27,44 +30,74 @@ fn directions() -> Vec<DVec3> {
     out
 }
 
-/// The block whose inside `p` is in, by the test above; area lights'
-/// surfaces are looked through.
-pub(crate) fn enclosing(renderer: &Renderer, p: DVec3) -> Option<u32> {
-    let objects = renderer.accel().objects();
-    let mut found = None;
-    for dir in directions() {
-        let ray = Ray::new(p, dir);
-        let mut best: Option<(crate::geometry::Hit, usize)> = None;
-        for (i, o) in objects.iter().enumerate() {
-            if o.light().is_some() {
-                continue;
-            }
-            let limit = best.as_ref().map_or(f64::INFINITY, |(h, _)| h.t);
-            if let Some(h) = o.shape().intersect(&ray, ray.t_min, limit) {
-                best = Some((h, i));
-            }
-        }
-        let (hit, i) = best?;
-        let o = &objects[i];
-        let s = o.shape().surface(&ray, &hit);
-        let Origin::Block(b) = o.origin() else {
-            return None;
-        };
-        let back = s.normal.dot(dir) > 0.0;
-        if !back || found.is_some_and(|f| f != b) {
-            return None;
-        }
-        found = Some(b);
+/// The block of `blocks` whose inside `p` is in, by the test above (of
+/// several, the smallest; planes, unbounded, enclose nothing). Area
+/// lights' surfaces are looked through.
+pub(crate) fn enclosing<'b>(
+    renderer: &Renderer,
+    blocks: &'b [PrimitiveBlock],
+    p: DVec3,
+) -> Option<&'b PrimitiveBlock> {
+    let holding: Vec<&PrimitiveBlock> = blocks
+        .iter()
+        .filter(|b| {
+            b.bounds
+                .is_some_and(|x| p.cmpge(x.min).all() && p.cmple(x.max).all())
+        })
+        .collect();
+    if holding.is_empty() {
+        return None;
     }
-    found
+    let objects = renderer.accel().objects();
+    let every: Vec<u32> = (0..objects.len() as u32)
+        .filter(|&i| objects[i as usize].light().is_none())
+        .collect();
+    // Along each ray, the distance to the first surface of any object.
+    let first: Vec<f64> = directions()
+        .into_iter()
+        .map(|dir| nearest(renderer, &every, p, dir).map_or(f64::INFINITY, |(t, _)| t))
+        .collect();
+    let volume = |b: &PrimitiveBlock| {
+        b.bounds
+            .map_or(f64::INFINITY, |x| (x.max - x.min).element_product())
+    };
+    holding
+        .into_iter()
+        .filter(|b| {
+            directions().into_iter().zip(&first).all(|(dir, &t_first)| {
+                nearest(renderer, &b.objects, p, dir)
+                    .is_some_and(|(t, back)| back && t <= t_first + 1e-9 * t_first.max(1.0))
+            })
+        })
+        .min_by(|a, b| volume(a).total_cmp(&volume(b)))
+}
+
+/// The nearest hit of the ray from `p` towards `dir` on the objects
+/// `among`: its distance, and whether it meets a surface's back.
+fn nearest(renderer: &Renderer, among: &[u32], p: DVec3, dir: DVec3) -> Option<(f64, bool)> {
+    let objects = renderer.accel().objects();
+    let ray = Ray::new(p, dir);
+    let mut best: Option<(Hit, usize)> = None;
+    for &i in among {
+        let limit = best.as_ref().map_or(f64::INFINITY, |(h, _)| h.t);
+        if let Some(h) = objects[i as usize]
+            .shape()
+            .intersect(&ray, ray.t_min, limit)
+        {
+            best = Some((h, i as usize));
+        }
+    }
+    best.map(|(hit, i)| {
+        let back = objects[i].shape().surface(&ray, &hit).normal.dot(dir) > 0.0;
+        (hit.t, back)
+    })
 }
 
 /// Lights inside closed objects or glass, and the camera inside an object.
 pub(crate) fn check(renderer: &Renderer, blocks: &[PrimitiveBlock], out: &mut Findings) {
     let scene = renderer.scene();
-    let block = |b: u32| blocks.iter().find(|k| k.index == b);
     for (li, light) in scene.lights().iter().enumerate() {
-        let Some(b) = enclosing(renderer, light.center()).and_then(block) else {
+        let Some(b) = enclosing(renderer, blocks, light.center()) else {
             continue;
         };
         let kind = match light.kind {
@@ -95,7 +128,7 @@ pub(crate) fn check(renderer: &Renderer, blocks: &[PrimitiveBlock], out: &mut Fi
         }
     }
     let camera = scene.camera();
-    if let Some(b) = enclosing(renderer, camera.origin).and_then(block) {
+    if let Some(b) = enclosing(renderer, blocks, camera.origin) {
         let what = name(b);
         out.block(
             Code::CameraInsideObject,
