@@ -130,12 +130,14 @@ fn lights_and_the_camera_inside_objects() {
 /// nested objects (the innermost is named), and the outsides of each.
 #[test]
 fn inside_whatever_touches_it() {
-    let light_at = |o: &str| format!("light point\n O= {o}\n color= 1 1 1\nend\n");
+    // The floor, `blocks` and a point light at `light`.
+    let text_with = |blocks: &str, light: &str| {
+        format!(
+            "background\n color= 0.1 0.1 0.1\nend\n{CAMERA}light point\n O= {light}\n color= 1 1 1\nend\n{FLOOR}{blocks}"
+        )
+    };
     let found = |blocks: &str, light: &str| {
-        let text = format!(
-            "background\n color= 0.1 0.1 0.1\nend\n{CAMERA}{}{FLOOR}{blocks}",
-            light_at(light)
-        );
+        let text = text_with(blocks, light);
         let codes: Vec<(Code, Option<u32>)> = findings(&text)
             .into_iter()
             .filter(|f| matches!(f.0, Code::LightInsideObject | Code::LightInsideGlass))
@@ -161,14 +163,7 @@ fn inside_whatever_touches_it() {
     let (codes, _) = found(stack, "-2 0 0.5");
     assert_eq!(codes.len(), 1, "{codes:?}");
     // Which block is named: the upper cube for a light in it.
-    let scene = Scene::parse(
-        &format!(
-            "background\n color= 0.1 0.1 0.1\nend\n{CAMERA}{}{FLOOR}{stack}",
-            light_at("-2 0 1.5")
-        ),
-        ".",
-    )
-    .unwrap_or_else(|e| panic!("{e}"));
+    let scene = Scene::parse(&text_with(stack, "-2 0 1.5"), ".").unwrap_or_else(|e| panic!("{e}"));
     let report = check(&Renderer::new(scene));
     let inside: Vec<&glint::Finding> = report
         .findings
