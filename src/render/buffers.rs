@@ -35,6 +35,8 @@ pub(crate) struct Rendered {
     pub shading: Option<Vec<(Aov, Vec<f32>)>>,
     /// The `cost` AOV (nodes, tests per pixel), when asked for.
     pub costs: Option<Vec<f32>>,
+    /// PPM's or SPPM's photon estimate (RGB a pixel), not the ray tracer's (zero) term.
+    pub photon_term: Option<Vec<f32>>,
 }
 
 /// Every per-pixel buffer of the passes over `area` (a region and, with
@@ -164,6 +166,7 @@ impl Buffers {
             rays_per_pixel,
             shading,
             costs,
+            photon_term: None,
         }
     }
 }

@@ -2,6 +2,7 @@
 
 use super::film::Region;
 use super::photons;
+use super::tile::Tile;
 use crate::scene::MAX_IMAGE_SIDE;
 
 /// Why a render did not produce a film.
@@ -55,6 +56,12 @@ pub enum RenderError {
         asked: usize,
         /// The most one render takes.
         max: usize,
+    },
+    /// A render of one part asked for as a whole film.
+    #[error("part {tile} of a render is rendered to its bands (render_parts), not a film")]
+    Parts {
+        /// The part.
+        tile: Tile,
     },
     /// The cancel flag was set.
     #[error("the render was cancelled")]

@@ -170,3 +170,128 @@ impl Film {
         true
     }
 }
+
+/// Why films of parts of a render do not make one film.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum AssembleError {
+    /// A part of another frame size.
+    #[error("a part is of a {got_w}x{got_h} frame, not {want_w}x{want_h}")]
+    Frame {
+        /// The part's frame width.
+        got_w: u32,
+        /// The part's frame height.
+        got_h: u32,
+        /// The film's frame width.
+        want_w: u32,
+        /// The film's frame height.
+        want_h: u32,
+    },
+    /// A part outside the region.
+    #[error("a part ({}x{} at ({}, {})) is not inside the region", part.width, part.height, part.x, part.y)]
+    Outside {
+        /// The part's region.
+        part: Region,
+    },
+    /// A part whose AOVs are not those of the others.
+    #[error("a part ({}x{} at ({}, {})) has other AOVs than the first", part.width, part.height, part.x, part.y)]
+    Aovs {
+        /// The part's region.
+        part: Region,
+    },
+    /// A pixel two parts hold.
+    #[error("the pixel ({x}, {y}) is in two parts")]
+    Twice {
+        /// Its column.
+        x: u32,
+        /// Its row.
+        y: u32,
+    },
+    /// A pixel no part holds.
+    #[error("the pixel ({x}, {y}) is in no part")]
+    Missing {
+        /// Its column.
+        x: u32,
+        /// Its row.
+        y: u32,
+    },
+}
+
+impl Film {
+    /// The film of `region` of a `frame` (width, height) pasted together
+    /// from `parts`, films of regions of that frame that hold each of its
+    /// pixels once, all with the same AOVs in the same order (the first's).
+    pub fn assemble(
+        frame: (u32, u32),
+        region: Region,
+        parts: impl IntoIterator<Item = Film>,
+    ) -> Result<Film, AssembleError> {
+        let n = region.area() as usize;
+        let mut color = vec![[0f32; 3]; n];
+        let mut seen = vec![false; n];
+        let mut aovs: Option<Vec<AovImage>> = None;
+        for part in parts {
+            if part.frame != frame {
+                return Err(AssembleError::Frame {
+                    got_w: part.frame.0,
+                    got_h: part.frame.1,
+                    want_w: frame.0,
+                    want_h: frame.1,
+                });
+            }
+            let r = part.region;
+            let inside = r.x >= region.x
+                && r.y >= region.y
+                && r.x + r.width <= region.x + region.width
+                && r.y + r.height <= region.y + region.height;
+            if !inside {
+                return Err(AssembleError::Outside { part: r });
+            }
+            let kinds = |a: &[AovImage]| a.iter().map(|p| p.aov).collect::<Vec<_>>();
+            let planes = aovs.get_or_insert_with(|| {
+                part.aovs
+                    .iter()
+                    .map(|p| AovImage {
+                        aov: p.aov,
+                        data: vec![0f32; n * p.channels()],
+                    })
+                    .collect()
+            });
+            if kinds(planes) != kinds(&part.aovs) {
+                return Err(AssembleError::Aovs { part: r });
+            }
+            let pixels = part.color.pixels();
+            for row in 0..r.height {
+                let to = ((r.y - region.y + row) * region.width + (r.x - region.x)) as usize;
+                let from = (row * r.width) as usize;
+                let w = r.width as usize;
+                if let Some(i) = seen[to..to + w].iter().position(|&s| s) {
+                    return Err(AssembleError::Twice {
+                        x: r.x + i as u32,
+                        y: r.y + row,
+                    });
+                }
+                seen[to..to + w].fill(true);
+                color[to..to + w].copy_from_slice(&pixels[from..from + w]);
+                for (plane, src) in planes.iter_mut().zip(&part.aovs) {
+                    let c = plane.channels();
+                    plane.data[to * c..(to + w) * c]
+                        .copy_from_slice(&src.data[from * c..(from + w) * c]);
+                }
+            }
+        }
+        if let Some(i) = seen.iter().position(|&s| !s) {
+            let i = i as u32;
+            return Err(AssembleError::Missing {
+                x: region.x + i % region.width,
+                y: region.y + i / region.width,
+            });
+        }
+        let mut film = Film::new(
+            frame,
+            region,
+            Image::from_pixels(region.width, region.height, color),
+        );
+        film.aovs = aovs.unwrap_or_default();
+        Ok(film)
+    }
+}

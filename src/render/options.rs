@@ -3,6 +3,7 @@
 
 use super::aov::Aov;
 use super::film::{Film, Region};
+use super::tile::Tile;
 use crate::integrator::photons::PhotonOptions;
 use std::sync::atomic::AtomicBool;
 
@@ -30,6 +31,9 @@ pub struct RenderOptions {
     pub aovs: Vec<Aov>,
     /// Photon mapping as the command line overrides it.
     pub photons: PhotonOptions,
+    /// One part of the render, for [`Renderer::render_parts`](super::Renderer::render_parts)
+    /// (`None`: all of it).
+    pub tile: Option<Tile>,
 }
 
 /// What PPM and SPPM hand the picture so far to: (iteration, film).

@@ -6,7 +6,7 @@ use super::buffers::Keep;
 use super::film::Region;
 use super::frame::Frame;
 use super::progress::Watch;
-use super::region::render_region;
+use super::region::render_runs;
 use crate::integrator::photons::{
     Brdf, HitPoint, HitPointObserver, HitPointSeed, PhotonGrid, PhotonMap, PhotonMode, Plan,
     gather, shoot, update_hit_point,
@@ -101,27 +101,28 @@ pub(crate) struct Progressed {
     pub direct: Vec<DVec3>,
 }
 
-/// The pixels of `region` after PPM's or SPPM's iterations, the rays the
-/// eye passes traced and the figures; after a cancel, those of the last
+/// The pixels of `runs` (regions of the frame apart from each other, one
+/// after the other) after PPM's or SPPM's iterations, the rays the eye
+/// passes traced and the figures; after a cancel, those of the last
 /// complete iteration (an error if none completed). `each(i, pixels)` is
 /// given every checkpoint's picture.
 pub(crate) fn progressive(
     p: &Progressive<'_>,
-    region: Region,
+    runs: &[Region],
     spp: Option<u32>,
     watch: &Watch,
     each: &mut dyn FnMut(u64, &[[f32; 3]]),
 ) -> Result<Progressed, Unfinished> {
     let plan = p.plan;
     let total = plan.iterations;
-    let pixels = region.area() as usize;
+    let pixels = runs.iter().map(Region::area).sum::<u64>() as usize;
     let mut stats = PhotonStats {
         planned: total,
         ..PhotonStats::default()
     };
     let mut rays = RayCounts::default();
     let (direct, mut points) = if plan.mode == PhotonMode::Ppm {
-        ppm_hit_points(p, region, spp, watch, &mut rays)?
+        ppm_hit_points(p, runs, spp, watch, &mut rays)?
     } else {
         (vec![DVec3::ZERO; pixels], sppm_estimates(plan, pixels))
     };
@@ -132,12 +133,7 @@ pub(crate) fn progressive(
         if watch.cancelled() {
             break;
         }
-        let at = Iteration {
-            p,
-            region,
-            i,
-            watch,
-        };
+        let at = Iteration { p, runs, i, watch };
         if !at.run(&mut points, &mut direct_sum, &mut rays, &mut stats)? {
             break;
         }
@@ -174,7 +170,7 @@ pub(crate) fn progressive(
 /// preliminary map, at most R².
 fn ppm_hit_points(
     p: &Progressive<'_>,
-    region: Region,
+    runs: &[Region],
     spp: Option<u32>,
     watch: &Watch,
     rays: &mut RayCounts,
@@ -185,25 +181,25 @@ fn ppm_hit_points(
         progress: &|_, _| {},
         cancel: watch.cancel,
     };
-    let done = render_region(p.frame, region, spp, Keep::default(), &quiet)
-        .ok_or(Unfinished::Cancelled)?;
-    rays.add(&done.rays);
+    let done =
+        render_runs(p.frame, runs, spp, Keep::default(), &quiet).ok_or(Unfinished::Cancelled)?;
+    done.iter().for_each(|d| rays.add(&d.rays));
     let (seeds, r) = match spp {
         Some(n) => {
             let strata = strata(n);
-            eye_pass(p.frame, region, n, plan.max_hitpoints, |x, y, s| {
+            eye_pass(p.frame, runs, n, plan.max_hitpoints, |x, y, s| {
                 p.frame.jittered(x, y, s, strata)
             })
         }
-        None => eye_pass(p.frame, region, 1, plan.max_hitpoints, |x, y, _| {
+        None => eye_pass(p.frame, runs, 1, plan.max_hitpoints, |x, y, _| {
             p.frame.centre_sample(x, y)
         }),
     }?;
     rays.add(&r);
     let mut points = hit_points(p.scene, &model, plan, seeds.hits);
     let direct: Vec<DVec3> = done
-        .pixels
         .iter()
+        .flat_map(|d| &d.pixels)
         .map(|c| DVec3::from(glam::Vec3::from(*c)))
         .collect();
     let (map, _) = photon_map(p.scene, p.accel, &model, plan, p.seed ^ 0x7072_656c);
@@ -234,10 +230,10 @@ fn sppm_estimates(plan: &Plan, pixels: usize) -> Vec<HitPoint> {
         .collect()
 }
 
-/// Iteration `i` of PPM or SPPM over `region`.
+/// Iteration `i` of PPM or SPPM over `runs`.
 struct Iteration<'a, 'p> {
     p: &'a Progressive<'p>,
-    region: Region,
+    runs: &'a [Region],
     i: u64,
     watch: &'a Watch<'a>,
 }
@@ -258,7 +254,7 @@ impl Iteration<'_, '_> {
         let plan = p.plan;
         let visible = if plan.mode == PhotonMode::Sppm {
             let max = plan.max_hitpoints;
-            let (seeds, r) = eye_pass(p.frame, self.region, 1, max, |x, y, _| {
+            let (seeds, r) = eye_pass(p.frame, self.runs, 1, max, |x, y, _| {
                 p.frame.fresh(x, y, i as u32)
             })?;
             rays.add(&r);
@@ -348,8 +344,8 @@ fn compose(
         .collect()
 }
 
-/// The diffuse hits of the camera samples of each pixel of `region`,
-/// tagged with the pixel, and each pixel's mean colour.
+/// The diffuse hits of the camera samples of each pixel of the runs,
+/// tagged with the pixel (counted through the runs), and each pixel's mean colour.
 struct EyePass {
     hits: Vec<(u32, HitPointSeed)>,
     colors: Vec<DVec3>,
@@ -383,21 +379,30 @@ impl Visible {
     }
 }
 
-/// Traces samples `sample(x, y, s)`, s < `n`, of each pixel of `region`,
+/// Traces samples `sample(x, y, s)`, s < `n`, of each pixel of `runs`,
 /// keeping their hits, each weighing 1/n; more than `max` hits stop it
 /// (an error naming `max_hitpoints=`), so it never holds more than `max`.
 fn eye_pass(
     frame: &Frame<'_>,
-    region: Region,
+    runs: &[Region],
     n: u32,
     max: u64,
     sample: impl Fn(u32, u32, u32) -> (crate::geometry::Ray, crate::integrator::PathState) + Sync,
 ) -> Result<(EyePass, RayCounts), Unfinished> {
     let share = 1.0 / f64::from(n.max(1));
     let found = AtomicU64::new(0);
-    let rows: Option<Vec<(EyePass, RayCounts)>> = (region.y..region.y + region.height)
+    // Each row of the runs: its run, its row in the frame and its first pixel.
+    let mut first = 0u32;
+    let mut lines = Vec::new();
+    for run in runs {
+        for y in run.y..run.y + run.height {
+            lines.push((*run, y, first));
+            first += run.width;
+        }
+    }
+    let rows: Option<Vec<(EyePass, RayCounts)>> = lines
         .into_par_iter()
-        .map(|y| {
+        .map(|(region, y, first)| {
             let mut hints = ShadowHints::default();
             let mut row = EyePass {
                 hits: Vec::new(),
@@ -406,7 +411,7 @@ fn eye_pass(
             let mut rays = RayCounts::default();
             let fresh = HitPointObserver::default();
             for x in region.x..region.x + region.width {
-                let pixel = (y - region.y) * region.width + (x - region.x);
+                let pixel = first + (x - region.x);
                 let before = row.hits.len();
                 let mut color = DVec3::ZERO;
                 for s in 0..n.max(1) {
@@ -439,7 +444,7 @@ fn eye_pass(
     };
     let mut pass = EyePass {
         hits: Vec::with_capacity(rows.iter().map(|r| r.0.hits.len()).sum()),
-        colors: Vec::with_capacity(region.area() as usize),
+        colors: Vec::with_capacity(first as usize),
     };
     let mut rays = RayCounts::default();
     for (row, r) in rows {

@@ -7,13 +7,13 @@ use super::buffers::{Keep, Rendered};
 use super::film::{Film, Region};
 use super::frame::Frame;
 use super::progress::Watch;
-use super::region::render_region;
+use super::region::render_runs;
 use super::shading_aovs::{LIGHT_AOVS_MAX, ShadingAovs};
 use super::{Control, PhotonStats, RenderError, RenderOptions, RenderStats, Stage};
 use super::{memory, photons, schedule};
 use crate::image::Image;
 use crate::integrator::photons::{PhotonMap, PhotonMode, Plan, Term};
-use crate::integrator::{Integrator, Model, PhotonShading, SceneAccel};
+use crate::integrator::{Integrator, Model, PhotonShading, RayCounts, SceneAccel};
 use crate::scene::{Camera, MAX_IMAGE_SIDE, Scene};
 use std::time::{Duration, Instant};
 
@@ -93,14 +93,44 @@ impl Renderer {
     }
 
     /// [`Renderer::render`], telling `control` its progress and stopping
-    /// when its flag is set; with the figures of the render.
+    /// when its flag is set; with the figures of the render. A render of
+    /// one part (`options.tile`) gives parts: see [`Renderer::render_parts`].
     pub fn render_with(
         &self,
         options: &RenderOptions,
         control: Control<'_>,
     ) -> Result<(Film, RenderStats), RenderError> {
-        let start = Instant::now();
+        if let Some(tile) = options.tile {
+            return Err(RenderError::Parts { tile });
+        }
         let (w, h) = self.frame_size(options)?;
+        let region = self.region(options, (w, h))?;
+        let (mut films, stats) = self.render_runs(options, &[region], control)?;
+        // One run, one film.
+        let film = films.pop().ok_or(RenderError::Cancelled)?;
+        Ok((film, stats))
+    }
+
+    /// The films of the part of the render `options.tile` names (all of
+    /// it without one): one a run of adjacent bands it holds, top to
+    /// bottom, each the same bytes as those rows of the whole render; none
+    /// when the part holds no band. Merged by [`Film::assemble`].
+    pub fn render_parts(
+        &self,
+        options: &RenderOptions,
+        control: Control<'_>,
+    ) -> Result<(Vec<Film>, RenderStats), RenderError> {
+        let (w, h) = self.frame_size(options)?;
+        let region = self.region(options, (w, h))?;
+        let runs = match options.tile {
+            Some(tile) => tile.runs(region),
+            None => vec![region],
+        };
+        self.render_runs(options, &runs, control)
+    }
+
+    /// The region `options` render in a `frame`: theirs, if inside it, or all of it.
+    fn region(&self, options: &RenderOptions, (w, h): (u32, u32)) -> Result<Region, RenderError> {
         let region = options.region.unwrap_or(Region::full(w, h));
         if !region.fits(w, h) {
             return Err(RenderError::Region {
@@ -109,6 +139,18 @@ impl Renderer {
                 frame_h: h,
             });
         }
+        Ok(region)
+    }
+
+    /// The films of `runs` (regions of the frame apart from each other), one each.
+    fn render_runs(
+        &self,
+        options: &RenderOptions,
+        runs: &[Region],
+        control: Control<'_>,
+    ) -> Result<(Vec<Film>, RenderStats), RenderError> {
+        let start = Instant::now();
+        let (w, h) = self.frame_size(options)?;
         let (plan, map, photon_stats) = self.photon_pass(options);
         let tracing = self.photon_shading(&plan, map.as_ref());
         let (spp, frame) = self.sampled_frame(w, h, options, tracing);
@@ -124,7 +166,7 @@ impl Renderer {
         })?;
         let job = RegionJob {
             frame: &frame,
-            region,
+            runs,
             spp,
             keep: Keep {
                 rays: options.aovs.contains(&Aov::Rays),
@@ -134,49 +176,57 @@ impl Renderer {
             watch: &watch,
             threads: options.threads,
         };
-        let (done, photon_term, photon_stats) = if plan.mode.progressive() {
-            let (done, term, stats) = self.iterated(&job, &plan, options.seed, control)?;
-            (done, Some(term), stats)
+        let (done, photon_stats) = if plan.mode.progressive() {
+            self.iterated(&job, &plan, options.seed, control)?
         } else {
-            (job.trace()?, None, photon_stats)
+            (job.trace()?, photon_stats)
         };
-        let (rays, refined) = (done.rays, done.refined);
-        let film = film_of(done, photon_term, (w, h), region, &options.aovs);
-        let stats = RenderStats {
-            rays,
-            elapsed: start.elapsed(),
+        let mut stats = RenderStats {
+            rays: RayCounts::default(),
+            elapsed: Duration::ZERO,
             build: self.build,
-            refined_pixels: refined,
+            refined_pixels: 0,
             photons: photon_stats,
         };
-        Ok((film, stats))
+        let films = done
+            .into_iter()
+            .zip(runs)
+            .map(|(done, &run)| {
+                stats.rays.add(&done.rays);
+                stats.refined_pixels += done.refined;
+                film_of(done, (w, h), run, &options.aovs)
+            })
+            .collect();
+        stats.elapsed = start.elapsed();
+        Ok((films, stats))
     }
 
-    /// PPM's or SPPM's iterations over `job`'s region under `plan`, the
-    /// picture handed to `control`'s checkpoint as they go; then, when
-    /// asked for, the ray-traced part's AOVs from one render of it. Returns
-    /// what the passes produce, the photon term and the photon figures.
+    /// PPM's or SPPM's iterations over `job`'s runs under `plan`, the
+    /// picture handed to `control`'s checkpoint as they go (a render of
+    /// one run); then, when asked for, the ray-traced part's AOVs from one
+    /// render of it. Returns what the passes produce for each run (the
+    /// photon term among it) and the photon figures.
     fn iterated(
         &self,
         job: &RegionJob,
         plan: &Plan,
         seed: u64,
         control: Control<'_>,
-    ) -> Result<(Rendered, Vec<f32>, PhotonStats), RenderError> {
-        let (region, (w, h)) = (job.region, (job.frame.width, job.frame.height));
+    ) -> Result<(Vec<Rendered>, PhotonStats), RenderError> {
+        let (w, h) = (job.frame.width, job.frame.height);
         let checkpoint = match control.checkpoint_every {
             0 => 10,
             n => n,
         };
         let p = self.progressive(job.frame, plan, seed, checkpoint);
         let mut each = |i: u64, pixels: &[[f32; 3]]| {
-            if let Some(checkpoint) = control.checkpoint {
+            if let (Some(checkpoint), [region]) = (control.checkpoint, job.runs) {
                 let image = Image::from_pixels(region.width, region.height, pixels.to_vec());
-                checkpoint(i, &Film::new((w, h), region, image));
+                checkpoint(i, &Film::new((w, h), *region, image));
             }
         };
         let done = schedule::with_threads(job.threads, || {
-            photons::progressive(&p, region, job.spp, job.watch, &mut each)
+            photons::progressive(&p, job.runs, job.spp, job.watch, &mut each)
         })
         .map_err(RenderError::from)?;
         let keep = job.keep;
@@ -185,19 +235,32 @@ impl Renderer {
         } else {
             None
         };
-        let (rays_per_pixel, shading, costs) = match traced {
-            Some(t) => (t.rays_per_pixel, t.shading, t.costs),
-            None => (None, None, None),
-        };
-        let rendered = Rendered {
-            pixels: done.pixels,
-            rays: done.rays,
-            refined: 0,
-            rays_per_pixel,
-            shading,
-            costs,
-        };
-        Ok((rendered, done.photons, done.stats))
+        // The iterations' pixels and photon term cut at the runs.
+        let (mut pixels, mut term) = (done.pixels.into_iter(), done.photons.into_iter());
+        let mut traced = traced.map(Vec::into_iter);
+        let mut rendered = Vec::with_capacity(job.runs.len());
+        for (i, run) in job.runs.iter().enumerate() {
+            let n = run.area() as usize;
+            let (rays_per_pixel, shading, costs) = match traced.as_mut().and_then(Iterator::next) {
+                Some(t) => (t.rays_per_pixel, t.shading, t.costs),
+                None => (None, None, None),
+            };
+            rendered.push(Rendered {
+                pixels: pixels.by_ref().take(n).collect(),
+                // The eye passes' rays, counted once.
+                rays: if i == 0 {
+                    done.rays
+                } else {
+                    RayCounts::default()
+                },
+                refined: 0,
+                rays_per_pixel,
+                shading,
+                costs,
+                photon_term: Some(term.by_ref().take(n * 3).collect()),
+            });
+        }
+        Ok((rendered, done.stats))
     }
 
     /// For each primitive block that made a surface (0-based index): its
@@ -315,12 +378,13 @@ impl Renderer {
         Ok(memory::memory_needed(pixels, threads, channels, &plan))
     }
 
-    /// The pixels a render of `options` fills: its region's, or the frame's.
+    /// The pixels a render of `options` fills: its part's of its region's, or the frame's.
     pub(super) fn pixels(&self, options: &RenderOptions) -> Result<u64, RenderError> {
         let (w, h) = self.frame_size(options)?;
-        Ok(match options.region {
-            Some(r) => r.area(),
-            None => u64::from(w) * u64::from(h),
+        let region = options.region.unwrap_or(Region::full(w, h));
+        Ok(match options.tile {
+            Some(tile) => tile.runs(region).iter().map(Region::area).sum(),
+            None => region.area(),
         })
     }
 
@@ -356,10 +420,11 @@ impl Renderer {
     }
 }
 
-/// The passes over one region of a frame, as a render runs them.
+/// The passes over runs of a frame (regions apart from each other), as a
+/// render runs them.
 struct RegionJob<'j> {
     frame: &'j Frame<'j>,
-    region: Region,
+    runs: &'j [Region],
     spp: Option<u32>,
     keep: Keep<'j>,
     watch: &'j Watch<'j>,
@@ -367,20 +432,19 @@ struct RegionJob<'j> {
 }
 
 impl RegionJob<'_> {
-    /// The region's passes, keeping what the job asks for, on its threads.
-    fn trace(&self) -> Result<Rendered, RenderError> {
+    /// The runs' passes, keeping what the job asks for, on its threads.
+    fn trace(&self) -> Result<Vec<Rendered>, RenderError> {
         let done = schedule::with_threads(self.threads, || {
-            render_region(self.frame, self.region, self.spp, self.keep, self.watch)
+            render_runs(self.frame, self.runs, self.spp, self.keep, self.watch)
         });
         done.ok_or(RenderError::Cancelled)
     }
 }
 
-/// The film of `region` of a `frame` from what its passes produced (and
-/// PPM's or SPPM's photon term), its AOVs in the order `aovs` asks for.
+/// The film of `region` of a `frame` from what its passes produced, its
+/// AOVs in the order `aovs` asks for.
 fn film_of(
     done: Rendered,
-    photon_term: Option<Vec<f32>>,
     frame: (u32, u32),
     region: Region,
     aovs: &[Aov],
@@ -391,7 +455,7 @@ fn film_of(
     if let Some(shaded) = done.shading {
         planes.extend(shaded);
     }
-    if let Some(term) = photon_term {
+    if let Some(term) = done.photon_term {
         // PPM's and SPPM's estimate, not the ray tracer's (zero) term.
         planes.retain(|(a, _)| *a != Aov::Photons);
         planes.push((Aov::Photons, term));

@@ -73,7 +73,7 @@ impl Renderer {
             height: 1,
         };
         let done = schedule::with_threads(None, || {
-            photons::progressive(&p, pixel, spp, &watch, &mut |_, _| {})
+            photons::progressive(&p, &[pixel], spp, &watch, &mut |_, _| {})
         })
         .map_err(RenderError::from)?;
         let iterations = done.stats.iterations;
