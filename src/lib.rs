@@ -43,6 +43,7 @@ mod sampling;
 pub mod scene;
 #[cfg(feature = "serve")]
 pub mod serve;
+pub mod tiles;
 
 pub use check::{CheckReport, Code, ESTIMATE_RAYS_PER_SECOND, Finding, check};
 pub use compare::{CompareError, Comparison, DEFAULT_THRESHOLD, Group, compare, read_picture};
@@ -51,7 +52,8 @@ pub use image::Image;
 pub use integrator::photons::{PhotonFilter, PhotonMode, PhotonOptions};
 pub use integrator::{Blocker, HitInfo, LightTerm, PhotonTerm, RayCounts, RayKind, RayNode};
 pub use output::{
-    Format, PrimitiveTable, SaveError, aov_path, primitive_colour, save_aov_images, save_exr_layers,
+    Format, PrimitiveTable, SaveError, aov_path, primitive_colour, save_aov_images,
+    save_exr_layers, save_film,
 };
 pub use probe::{MAX_RAY_ERRORS, ProbeHit, RayError, RaysError, parse_ray, read_rays};
 pub use render::{

@@ -33,6 +33,7 @@ pub(crate) use ray::Span;
 pub use ray::{Hit, Ray, SurfacePoint, offset_origin};
 pub use rectangle::Rectangle;
 pub use shape::Shape;
+pub(crate) use shape::kind_name_of;
 pub use sphere::Sphere;
 pub use square::Square;
 pub use triangle::Triangle;

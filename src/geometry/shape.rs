@@ -74,6 +74,7 @@ impl Shape {
 
     /// The kind's name, as the scene format spells it (`sphere`, `cube`...).
     pub fn kind_name(&self) -> &'static str {
+        // The names are those of `KINDS`.
         match self {
             Shape::Sphere(_) => "sphere",
             Shape::Plane(_) => "plane",
@@ -133,6 +134,23 @@ impl Shape {
         self.tangent_frame(s)
             .map_or(s.shading_normal, |f| perturbed_normal(&f, texel))
     }
+}
+
+/// Every name [`Shape::kind_name`] gives.
+const KINDS: [&str; 8] = [
+    "sphere",
+    "plane",
+    "square",
+    "cube",
+    "cylinder",
+    "bezier",
+    "triangle",
+    "rectangle",
+];
+
+/// The kind name `name` as [`Shape::kind_name`] gives it (`?` for none).
+pub(crate) fn kind_name_of(name: &str) -> &'static str {
+    KINDS.iter().find(|k| **k == name).copied().unwrap_or("?")
 }
 
 #[cfg(test)]

@@ -45,6 +45,28 @@ fn write_err(path: &Path, message: impl ToString) -> SaveError {
     }
 }
 
+/// Writes what `render` writes of `film` at `picture`: with AOVs and an
+/// `.exr`, one file of layers; otherwise the picture in its format and
+/// each AOV beside it ([`save_aov_images`], `table()` naming the primitives,
+/// `file` the scene's file name). Nothing more is written once `cancel` is set.
+pub fn save_film(
+    film: &Film,
+    picture: &Path,
+    table: impl FnOnce() -> PrimitiveTable,
+    file: Option<&str>,
+    cancel: &AtomicBool,
+) -> Result<(), SaveError> {
+    let exr = Format::from_path(picture)? == Format::Exr;
+    if exr && !film.aovs().is_empty() {
+        return save_exr_layers(film, picture, cancel);
+    }
+    film.image().save_unless(picture, cancel)?;
+    if !film.aovs().is_empty() && !cancel.load(std::sync::atomic::Ordering::Relaxed) {
+        save_aov_images(film, picture, &table(), file, cancel)?;
+    }
+    Ok(())
+}
+
 /// Writes the film's picture and its planes as the layers of one OpenEXR
 /// file at `path` (`color`: R G B; then each plane under its name); nothing
 /// is left when `cancel` is set before the file is in place.

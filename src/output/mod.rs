@@ -6,6 +6,9 @@ mod atomic;
 mod layers;
 mod picture;
 
-pub use layers::{PrimitiveTable, aov_path, primitive_colour, save_aov_images, save_exr_layers};
+pub(crate) use atomic::write_atomically;
+pub use layers::{
+    PrimitiveTable, aov_path, primitive_colour, save_aov_images, save_exr_layers, save_film,
+};
 pub(crate) use layers::{aov_picture, hit_mask};
 pub use picture::{Format, SaveError, encode_rgb8};

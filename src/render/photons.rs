@@ -48,6 +48,8 @@ pub struct PhotonStats {
     /// Rays cast tracing photons (one a path segment): PM's map, or every
     /// iteration's pass together.
     pub rays: u64,
+    /// Wall time of PM's map (PPM and SPPM: of every photon pass together).
+    pub elapsed: std::time::Duration,
 }
 
 /// Traces PM's photon map.
@@ -58,6 +60,7 @@ pub(crate) fn photon_map(
     plan: &Plan,
     seed: u64,
 ) -> (PhotonMap, PhotonStats) {
+    let start = std::time::Instant::now();
     let pass = shoot(scene, accel, model, plan, seed, 0);
     let stats = PhotonStats {
         emitted: pass.emitted,
@@ -66,10 +69,12 @@ pub(crate) fn photon_map(
         rays: pass.rays,
         ..PhotonStats::default()
     };
-    (
-        PhotonMap::new(pass.photons, plan.k, plan.radius, plan.filter),
-        stats,
-    )
+    let map = PhotonMap::new(pass.photons, plan.k, plan.radius, plan.filter);
+    let stats = PhotonStats {
+        elapsed: start.elapsed(),
+        ..stats
+    };
+    (map, stats)
 }
 
 /// Everything the progressive passes read.
@@ -267,7 +272,9 @@ impl Iteration<'_, '_> {
         } else {
             None
         };
+        let start = std::time::Instant::now();
         let pass = shoot(p.scene, p.accel, &model, plan, p.seed, i);
+        stats.elapsed += start.elapsed();
         if self.watch.cancelled() {
             return Ok(false);
         }

@@ -443,12 +443,7 @@ impl RegionJob<'_> {
 
 /// The film of `region` of a `frame` from what its passes produced, its
 /// AOVs in the order `aovs` asks for.
-fn film_of(
-    done: Rendered,
-    frame: (u32, u32),
-    region: Region,
-    aovs: &[Aov],
-) -> Film {
+fn film_of(done: Rendered, frame: (u32, u32), region: Region, aovs: &[Aov]) -> Film {
     let image = Image::from_pixels(region.width, region.height, done.pixels);
     let mut film = Film::new(frame, region, image);
     let mut planes = Vec::new();

@@ -8,9 +8,12 @@ mod check;
 mod compare;
 mod explain;
 mod memory;
+mod merge;
 mod probe;
 mod render;
 mod serve;
+mod tile;
+mod tiles;
 
 use clap::{Parser, Subcommand};
 use glint::{Dialect, RenderError, Scene};
@@ -43,6 +46,12 @@ enum Command {
     /// Compare your own render with glint's: a heat map, and the differing
     /// pixels grouped by the primitive glint sees there, worst first.
     Compare(compare::Args),
+    /// Merge the tiles of `render --tile I/N --tiles-dir DIR` into the
+    /// picture one render writes, byte for byte (exit 3 naming the tiles not done).
+    Merge(merge::Args),
+    /// List the tiles of a folder: done, missing, corrupt or of another
+    /// render, and how to render the missing ones (exit 0 when all are done, 3 when not).
+    Tiles(tiles::Args),
     /// A live page of the scene, rendered again on every save of it or of
     /// a texture or mesh it uses; hover and click explain pixels.
     Serve(serve::Args),
@@ -136,6 +145,8 @@ fn main() -> ExitCode {
         Command::Check(args) => check::exec(args),
         Command::Compare(args) => compare::exec(args, &interrupt_flag()),
         Command::Serve(args) => serve::exec(args, &interrupt_flag()),
+        Command::Merge(args) => merge::exec(args, &interrupt_flag()),
+        Command::Tiles(args) => tiles::exec(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

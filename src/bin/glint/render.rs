@@ -2,10 +2,11 @@
 
 use crate::args::{DialectArg, PhotonArgs, PixelArgs, at_least_one, thread_count};
 use crate::memory::{memory_available, memory_held};
+use crate::tile;
 use crate::{
     Failure, check_interrupt, fail, load_scene, refuse_scene_as_output, render_failure, say,
 };
-use glint::{Aov, Control, Film, Format, Region, RenderOptions, Renderer};
+use glint::{Aov, Control, Film, Format, Region, RenderOptions, Renderer, Tile};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -49,20 +50,42 @@ pub struct Args {
     dialect: DialectArg,
     #[command(flatten)]
     photons: PhotonArgs,
+    /// Render only part I of N (I from 0 to N-1: full-width bands of 32
+    /// rows, band b to part b mod N) into DIR/tile-I-of-N.glt, for `glint merge`.
+    #[arg(
+        long,
+        value_name = "I/N",
+        requires = "tiles_dir",
+        conflicts_with = "output"
+    )]
+    tile: Option<Tile>,
+    /// The folder the part's file is written to (with --tile).
+    #[arg(long, value_name = "DIR", requires = "tile")]
+    tiles_dir: Option<PathBuf>,
+    /// With --tile: leave a valid tile of the same render in the folder alone.
+    #[arg(long, requires = "tile")]
+    skip_existing: bool,
 }
 
 /// Renders, writing the picture (and its AOVs), checkpoints of PPM and
 /// SPPM on the way, and the summary unless quiet.
 pub fn exec(args: Args, interrupt: &AtomicBool) -> Result<(), Failure> {
     let start = Instant::now();
+    if let Some(dir) = &args.tiles_dir {
+        tile::check_folder(dir)?;
+    }
     let output = args.output.clone().unwrap_or_else(|| {
         let stem = args.scene.file_stem().unwrap_or_default();
         PathBuf::from(stem).with_extension("png")
     });
     // Fail on the output path before spending the render time.
-    refuse_scene_as_output(&args.scene, &output)?;
+    if args.tile.is_none() {
+        refuse_scene_as_output(&args.scene, &output)?;
+    }
     let scene = load_scene(&args.scene, args.dialect.dialect, !args.quiet)?;
-    Format::from_path(&output).map_err(|e| fail(format!("error: {e}")))?;
+    if args.tile.is_none() {
+        Format::from_path(&output).map_err(|e| fail(format!("error: {e}")))?;
+    }
     if args.verbose {
         for note in scene.notes() {
             say(&format!("note: {note}"));
@@ -76,9 +99,11 @@ pub fn exec(args: Args, interrupt: &AtomicBool) -> Result<(), Failure> {
             None => Vec::new(),
         },
         photons: args.photons.options(),
+        tile: args.tile,
         ..RenderOptions::default()
     });
     check_interrupt(interrupt)?;
+    let read = start.elapsed();
     let renderer = Renderer::new(scene);
     if !args.quiet {
         for note in renderer.photon_notes(&options) {
@@ -90,21 +115,37 @@ pub fn exec(args: Args, interrupt: &AtomicBool) -> Result<(), Failure> {
     warn_if_slow(&renderer, &options, &args.scene)?;
     check_interrupt(interrupt)?;
 
-    let bar = if args.quiet || !std::io::stderr().is_terminal() {
-        ProgressBar::hidden()
-    } else {
-        let bar = ProgressBar::with_draw_target(Some(1), ProgressDrawTarget::stderr());
-        if let Ok(style) = ProgressStyle::with_template(
-            "{spinner} [{elapsed_precise}] [{wide_bar}] {percent:>3}% ETA {eta}",
-        ) {
-            bar.set_style(style.progress_chars("=> "));
-        }
-        bar
-    };
+    let bar = progress_bar(args.quiet);
     let progress = |done, total| {
         bar.set_length(total);
         bar.set_position(done);
     };
+    if let (Some(tile), Some(dir)) = (args.tile, &args.tiles_dir) {
+        let part = tile::Part {
+            renderer: &renderer,
+            options: &options,
+            tile,
+            dir,
+            skip_existing: args.skip_existing,
+        };
+        let rendered = part.render(&progress, interrupt);
+        bar.finish_and_clear();
+        let (path, stats) = match rendered? {
+            Some(done) => done,
+            None => return Ok(()),
+        };
+        if !args.quiet {
+            let times = tile::Times {
+                read,
+                wall: start.elapsed(),
+            };
+            say(&tile::summary(
+                &path, tile, &options, &renderer, &stats, times,
+            ));
+        }
+        return Ok(());
+    }
+
     // PPM and SPPM checkpoints: the picture so far, written atomically
     // (AOVs and EXR layers are written at the end only).
     let never = AtomicBool::new(false);
@@ -136,23 +177,11 @@ pub fn exec(args: Args, interrupt: &AtomicBool) -> Result<(), Failure> {
         return Err(Failure::Interrupted);
     }
     let cannot = |e: glint::SaveError| fail(format!("error: cannot write the image: {e}"));
-    let exr = Format::from_path(&output).is_ok_and(|f| f == Format::Exr);
-    if exr && !options.aovs.is_empty() {
-        let saved = glint::save_exr_layers(&film, &output, interrupt);
-        check_interrupt(interrupt)?;
-        saved.map_err(cannot)?;
-    } else {
-        let saved = film.image().save_unless(&output, interrupt);
-        check_interrupt(interrupt)?;
-        saved.map_err(cannot)?;
-        if !options.aovs.is_empty() {
-            let table = renderer.primitive_table();
-            let file = renderer.scene_file();
-            let saved = glint::save_aov_images(&film, &output, &table, file.as_deref(), interrupt);
-            check_interrupt(interrupt)?;
-            saved.map_err(cannot)?;
-        }
-    }
+    let file = renderer.scene_file();
+    let table = || renderer.primitive_table();
+    let saved = glint::save_film(&film, &output, table, file.as_deref(), interrupt);
+    check_interrupt(interrupt)?;
+    saved.map_err(cannot)?;
     if !args.quiet {
         let r = stats.rays;
         say(&format!(
@@ -239,4 +268,18 @@ fn check_memory(
         }
         _ => Ok(()),
     }
+}
+
+/// The progress bar: on a terminal, unless quiet.
+fn progress_bar(quiet: bool) -> ProgressBar {
+    if quiet || !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::with_draw_target(Some(1), ProgressDrawTarget::stderr());
+    if let Ok(style) = ProgressStyle::with_template(
+        "{spinner} [{elapsed_precise}] [{wide_bar}] {percent:>3}% ETA {eta}",
+    ) {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar
 }

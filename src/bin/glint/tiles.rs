@@ -1,0 +1,140 @@
+//! `glint tiles`: which tiles of a folder are done, missing, corrupt or of
+//! another render, the missing ones as an array list, and how to render them.
+
+use crate::{Failure, fail};
+use glint::tiles::{Folder, TileState, index_list};
+use std::path::{Path, PathBuf};
+
+/// The arguments of `glint tiles`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// The folder of tile files (tile-I-of-N.glt).
+    dir: PathBuf,
+}
+
+/// Prints the folder's state: exit 0 when every tile is done, 3 when not.
+pub fn exec(args: Args) -> Result<(), Failure> {
+    let folder = Folder::read(&args.dir).map_err(|e| fail(format!("error: {e}")))?;
+    let report = report(&folder);
+    println!("{report}");
+    if report.complete {
+        Ok(())
+    } else {
+        Err(Failure::Status(3))
+    }
+}
+
+/// What a folder holds, as people read it.
+pub struct Report {
+    /// Tiles in all.
+    pub count: u32,
+    /// Whether every tile is done.
+    pub complete: bool,
+    lines: Vec<String>,
+}
+
+impl std::fmt::Display for Report {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}", self.lines.join("\n"))
+    }
+}
+
+/// The report of `folder`: a line a tile not done, the counts, the
+/// indices to render again as an array list and the command that does.
+pub fn report(folder: &Folder) -> Report {
+    let n = folder.count;
+    let mut lines = Vec::new();
+    let of = |want: fn(&TileState) -> bool| -> Vec<u32> {
+        (0..n)
+            .filter(|&i| want(&folder.states[i as usize]))
+            .collect()
+    };
+    for (i, state) in folder.states.iter().enumerate() {
+        match state {
+            TileState::Done => {}
+            TileState::Missing => lines.push(format!("tile {i} of {n}: missing")),
+            TileState::Corrupt(why) => lines.push(format!("tile {i} of {n}: corrupt: {why}")),
+            TileState::Foreign(why) => lines.push(format!("tile {i} of {n}: foreign: {why}")),
+        }
+    }
+    for (name, count) in &folder.others {
+        lines.push(format!(
+            "{name}: a tile of a render cut into {count} parts, not {n}: ignored"
+        ));
+    }
+    let done = of(|s| *s == TileState::Done);
+    let missing = of(|s| *s == TileState::Missing);
+    let corrupt = of(|s| matches!(s, TileState::Corrupt(_)));
+    let foreign = of(|s| matches!(s, TileState::Foreign(_)));
+    for (what, list) in [
+        ("done", &done),
+        ("missing", &missing),
+        ("corrupt", &corrupt),
+        ("foreign", &foreign),
+    ] {
+        lines.push(format!("{what}: {} ({})", list.len(), index_list(list)));
+    }
+    let redo = folder.not_done();
+    if !redo.is_empty() {
+        lines.push(format!("to render again: {}", index_list(&redo)));
+        lines.push(rerun(folder, &redo));
+    }
+    Report {
+        count: n,
+        complete: redo.is_empty(),
+        lines,
+    }
+}
+
+/// The command that renders the parts `redo` again: the Slurm job script
+/// `glint job slurm` wrote into the folder, else the command of a done tile.
+fn rerun(folder: &Folder, redo: &[u32]) -> String {
+    let list = index_list(redo);
+    let script = folder.dir.join("render.sbatch");
+    if script.is_file() {
+        return format!("rerun: sbatch --array={list} {}", quoted(&script));
+    }
+    let Some(command) = folder.command() else {
+        return format!(
+            "rerun: glint render SCENE --tile I/{} --tiles-dir {} [the same options] for I in {list}",
+            folder.count,
+            quoted(&folder.dir)
+        );
+    };
+    // The command with `--tile I/N` (or `--tile=I/N`) made a loop variable.
+    let words: Vec<String> = command
+        .iter()
+        .enumerate()
+        .map(|(k, w)| {
+            let after_flag = k > 0 && command[k - 1] == "--tile";
+            if after_flag {
+                format!("\"$i/{}\"", folder.count)
+            } else if w.starts_with("--tile=") {
+                format!("--tile=\"$i/{}\"", folder.count)
+            } else {
+                shell_word(w)
+            }
+        })
+        .collect();
+    let list = redo
+        .iter()
+        .map(u32::to_string)
+        .collect::<Vec<_>>()
+        .join(" ");
+    format!("rerun: for i in {list}; do {}; done", words.join(" "))
+}
+
+/// A path as one shell word.
+fn quoted(path: &Path) -> String {
+    shell_word(&path.display().to_string())
+}
+
+/// `s` as one shell word: bare when safe, else in single quotes.
+fn shell_word(s: &str) -> String {
+    let safe = |c: char| c.is_ascii_alphanumeric() || "-_./=:,+@%".contains(c);
+    if !s.is_empty() && s.chars().all(safe) {
+        s.to_string()
+    } else {
+        format!("'{}'", s.replace('\'', "'\\''"))
+    }
+}
