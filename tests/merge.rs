@@ -329,3 +329,20 @@ fn bad_parts_folders_and_outputs_are_refused_naming_them() {
         .collect();
     assert_eq!(left.len(), 2, "nothing half-written: {left:?}");
 }
+
+#[test]
+fn the_tiles_picture_shows_which_part_rendered_which_band() {
+    let dir = scratch(SCENE);
+    let d = dir.path();
+    parts(d, 3, &["--spp", "1"]); // 70 rows: bands 0-31, 32-63, 64-69
+    std::fs::remove_file(d.join("t/tile-1-of-3.glt")).expect("removes");
+    let o = glint(&["tiles", "t", "--picture", "map.png"], d);
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    let map = image::open(d.join("map.png")).expect("a picture").to_rgb8();
+    assert_eq!(map.dimensions(), (48, 70));
+    let row = |y: u32| (0..48).map(|x| map.get_pixel(x, y).0).collect::<Vec<_>>();
+    // The missing part's band is black; the others are tinted, each its own colour.
+    assert!(row(40).iter().all(|p| *p == [0, 0, 0]));
+    assert!(row(10).iter().all(|p| p.iter().any(|&c| c > 0)));
+    assert_ne!(row(10)[0], row(66)[0], "two parts, two colours");
+}

@@ -3,7 +3,8 @@
 
 use super::file::{ReadError, TileFile};
 use super::fingerprint::Fingerprint;
-use crate::output::PrimitiveTable;
+use crate::image::Image;
+use crate::output::{PrimitiveTable, primitive_colour};
 use crate::render::{AssembleError, Film, Region, Tile};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -263,4 +264,29 @@ fn check(
         )));
     }
     None
+}
+
+impl Folder {
+    /// Which part rendered which band: the rendered pixels (clamped to
+    /// 0–1) half and half with their part's false colour (that of
+    /// primitive index I), the bands of parts not done black; `None` when
+    /// no part is done (nothing tells the picture's size).
+    pub fn picture(&self) -> Option<Image> {
+        let first = self.tiles.values().next()?;
+        let region = region_of(first);
+        let mut pixels = vec![[0f32; 3]; region.area() as usize];
+        for (index, tile) in &self.tiles {
+            let [r, g, b] = primitive_colour(*index as f32).map(|c| f32::from(c) / 255.0);
+            for film in &tile.films {
+                let f = film.region();
+                for (k, p) in film.image().pixels().iter().enumerate() {
+                    let (x, y) = (f.x + k as u32 % f.width, f.y + k as u32 / f.width);
+                    let at = ((y - region.y) * region.width + (x - region.x)) as usize;
+                    let c = p.map(|v| v.clamp(0.0, 1.0) * 0.5);
+                    pixels[at] = [c[0] + r * 0.5, c[1] + g * 0.5, c[2] + b * 0.5];
+                }
+            }
+        }
+        Some(Image::from_pixels(region.width, region.height, pixels))
+    }
 }

@@ -10,6 +10,10 @@ use std::path::{Path, PathBuf};
 pub struct Args {
     /// The folder of tile files (tile-I-of-N.glt).
     dir: PathBuf,
+    /// Also write a picture of which part rendered which band: the pixels
+    /// tinted with their part's colour, bands not done black.
+    #[arg(long, value_name = "OUT")]
+    picture: Option<PathBuf>,
 }
 
 /// Prints the folder's state: exit 0 when every tile is done, 3 when not.
@@ -17,6 +21,17 @@ pub fn exec(args: Args) -> Result<(), Failure> {
     let folder = Folder::read(&args.dir).map_err(|e| fail(format!("error: {e}")))?;
     let report = report(&folder);
     println!("{report}");
+    if let Some(out) = &args.picture {
+        let Some(picture) = folder.picture() else {
+            return Err(fail(format!(
+                "error: {}: no tile is done, so there is no picture to draw",
+                args.dir.display()
+            )));
+        };
+        picture
+            .save(out)
+            .map_err(|e| fail(format!("error: cannot write the picture: {e}")))?;
+    }
     if report.complete {
         Ok(())
     } else {
