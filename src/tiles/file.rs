@@ -4,12 +4,11 @@
 //! its figures), the runs' linear f32 pixels (colour, then each AOV), and
 //! a CRC-32 of all that.
 
-use super::fingerprint::Fingerprint;
-use crate::output::PrimitiveTable;
-use crate::output::write_atomically;
-use crate::render::{Aov, Film, Region, Tile};
+use super::fingerprint::{Fingerprint, FingerprintError};
+use crate::output::{PrimitiveTable, write_atomically};
+use crate::render::{Aov, Control, Film, Region, RenderOptions, RenderStats, Renderer, Tile};
 use serde_json::{Value, json};
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 
@@ -260,6 +259,54 @@ impl TileFile {
             legend,
             figures: header["figures"].clone(),
         })
+    }
+
+    /// Renders part `options.tile` of `renderer`'s picture (all of it, one
+    /// part of one, without) into a tile file recording `command`, with the
+    /// render's figures; an error when the render fails or a file the
+    /// scene read cannot be read again for its fingerprint.
+    pub fn render(
+        renderer: &Renderer,
+        options: &RenderOptions,
+        control: Control<'_>,
+        command: Vec<String>,
+    ) -> Result<(TileFile, RenderStats), FingerprintError> {
+        let tile = options.tile.unwrap_or(Tile { index: 0, count: 1 });
+        let fingerprint = Fingerprint::of(renderer, options, tile.count)?;
+        let options = RenderOptions {
+            tile: Some(tile),
+            ..options.clone()
+        };
+        let (films, stats) = renderer.render_parts(&options, control)?;
+        // The primitives its `primitive` AOV shows, for the legend.
+        let shown: BTreeSet<u32> = films
+            .iter()
+            .filter_map(|f| f.aov(Aov::Primitive))
+            .flat_map(|p| p.data.iter().copied())
+            .filter(|&v| v >= 0.0)
+            .map(|v| v as u32)
+            .collect();
+        let table = renderer.primitive_table();
+        let file = TileFile {
+            tile,
+            fingerprint,
+            command,
+            scene_file: renderer.scene_file(),
+            frame: renderer.frame_size(&options)?,
+            films,
+            legend: shown
+                .into_iter()
+                .filter_map(|i| table.get(&i).map(|(k, l)| (i, (k.to_string(), *l))))
+                .collect(),
+            // Counts only: the times go to the summary line, so a part
+            // rendered again (a requeue, a duplicate) writes the same bytes.
+            figures: json!({
+                "rays": stats.rays.total(),
+                "refined_pixels": stats.refined_pixels,
+                "photon_rays": stats.photons.rays,
+            }),
+        };
+        Ok((file, stats))
     }
 
     /// Writes it as `dir/tile-I-of-N.glt`, atomically (a temporary file

@@ -2,7 +2,7 @@
 //! its tile file, for `glint merge`, and the part's summary.
 
 use crate::{Failure, check_interrupt, fail, render_failure};
-use glint::tiles::{Fingerprint, TileFile};
+use glint::tiles::{Fingerprint, FingerprintError, TileFile};
 use glint::{Control, RenderOptions, RenderStats, Renderer, Tile};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
@@ -68,41 +68,17 @@ impl Part<'_> {
             cancel: Some(interrupt),
             ..Control::default()
         };
-        let (films, stats) = self
-            .renderer
-            .render_parts(self.options, control)
-            .map_err(render_failure)?;
+        let rendered = TileFile::render(
+            self.renderer,
+            self.options,
+            control,
+            std::env::args().collect(),
+        );
         check_interrupt(interrupt)?;
-        let legend = films
-            .iter()
-            .filter_map(|f| f.aov(glint::Aov::Primitive))
-            .flat_map(|p| p.data.iter().copied())
-            .filter(|&v| v >= 0.0)
-            .map(|v| v as u32)
-            .collect::<std::collections::BTreeSet<u32>>();
-        let table = self.renderer.primitive_table();
-        let file = TileFile {
-            tile: self.tile,
-            fingerprint,
-            command: std::env::args().collect(),
-            scene_file: self.renderer.scene_file(),
-            frame: self
-                .renderer
-                .frame_size(self.options)
-                .map_err(render_failure)?,
-            films,
-            legend: legend
-                .into_iter()
-                .filter_map(|i| table.get(&i).map(|(k, l)| (i, (k.to_string(), *l))))
-                .collect(),
-            // Counts only: the times go to the summary line, so a part
-            // rendered again (a requeue, a duplicate) writes the same bytes.
-            figures: serde_json::json!({
-                "rays": stats.rays.total(),
-                "refined_pixels": stats.refined_pixels,
-                "photon_rays": stats.photons.rays,
-            }),
-        };
+        let (file, stats) = rendered.map_err(|e| match e {
+            FingerprintError::Render(e) => render_failure(e),
+            e => fail(format!("error: {e}")),
+        })?;
         let written = file.write(self.dir, interrupt);
         check_interrupt(interrupt)?;
         let path = written.map_err(|e| {
