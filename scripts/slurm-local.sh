@@ -238,6 +238,7 @@ cmd_start() {
     fi
 
     # 3. The folder and its own munge key (kept across --keep).
+    ((${#SOCK} < 108)) || die "the munge socket $SOCK is longer than 107 bytes: set GLINT_SLURM_DIR to a shorter folder"
     mkdir -p "$DIR"/{etc,log,run,pids,spool/ctld,spool/d,munge/key,munge/run}
     touch "$MARK"
     chmod 755 "$DIR" "$DIR/munge" "$DIR/munge/run" # munged wants the socket's folders searchable by all
