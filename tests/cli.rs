@@ -651,7 +651,7 @@ fn endless_or_odd_files_are_refused_with_their_name() {
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(
-        err.contains("nul.txt") && err.contains("line 1 is longer than 1 MiB"),
+        err.contains("nul.txt:1:1") && err.contains("line 1 is longer than 1 MiB"),
         "{err}"
     );
     // Rays from an endless source.

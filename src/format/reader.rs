@@ -21,21 +21,21 @@ const HEADERS: [&str; 5] = ["background", "camera", "light", "primitive", "objec
 const CHUNK: usize = 1 << 20;
 
 pub(crate) fn parse_file(path: &Path, dialect: Option<Dialect>) -> Result<Scene, SceneError> {
-    let file = open_regular(path).map_err(|e| read_error(path, &e))?;
+    let file = open_regular(path).map_err(|e| read_error(path, &e, 0))?;
     let dir = path.parent().unwrap_or(Path::new("."));
     parse_chunked(file, path, dir, CHUNK, Limits::DEFAULT, dialect)
 }
 
-/// The error for a scene file that cannot be read (line 0: the file as a
-/// whole; a line too long says which in the message).
-fn read_error(path: &Path, e: &dyn std::fmt::Display) -> SceneError {
+/// The error for a scene file that cannot be read: at `FILE:LINE:1` for a
+/// line too long, else the file as a whole (line 0).
+fn read_error(path: &Path, e: &dyn std::fmt::Display, line: usize) -> SceneError {
     SceneError {
         diagnostics: vec![Diagnostic {
             severity: Severity::Error,
             message: format!("cannot read the scene file: {e}"),
             file: path.display().to_string(),
-            line: 0,
-            column: 0,
+            line,
+            column: usize::from(line > 0),
             len: 0,
             source_line: String::new(),
             help: None,
@@ -70,10 +70,16 @@ fn parse_chunked(
         let got = (&mut input)
             .take(want as u64)
             .read_to_end(&mut raw)
-            .map_err(|e| read_error(path, &ReadError::Io(e)))?;
+            .map_err(|e| read_error(path, &ReadError::Io(e), 0))?;
         guard
             .check(raw.get(old..).unwrap_or_default())
-            .map_err(|e| read_error(path, &e))?;
+            .map_err(|e| {
+                let line = match e {
+                    ReadError::LineTooLong { line, .. } => line,
+                    _ => 0,
+                };
+                read_error(path, &e, line)
+            })?;
         let last = got == 0;
         // Cut after a `\n`: no `\r\n`, no UTF-8 character is split, and
         // `from_utf8_lossy` of each piece is that of the whole file.
@@ -1176,13 +1182,20 @@ primitive sphere
         let text = format!("camera\n image_W= 3\n{}\nend\n", "x".repeat(65));
         let e =
             parse_chunked(text.as_bytes(), mem_path(), Path::new("."), 7, small, None).unwrap_err();
-        let m = e.diagnostics.first().map(|d| d.message.as_str());
+        let m = e
+            .diagnostics
+            .first()
+            .map(|d| (d.message.as_str(), d.line, d.column));
         assert_eq!(
             m,
-            Some(
-                "cannot read the scene file: line 3 is longer than 64 bytes, the longest line glint reads"
-            )
+            Some((
+                "cannot read the scene file: line 3 is longer than 64 bytes, the longest line glint reads",
+                3,
+                1
+            ))
         );
+        // Named as every scene error is: FILE:LINE:1.
+        assert!(format!("{e}").contains("--> tests/data/mem.txt:3:1"), "{e}");
         // NUL bytes without end, and endless short lines.
         let e =
             parse_chunked(io::repeat(0), mem_path(), Path::new("."), 16, small, None).unwrap_err();
