@@ -186,8 +186,10 @@ struct Reader<'p> {
     dialect: Option<Dialect>,
     /// Whether any block header was read.
     any_block: bool,
-    /// The first text outside a block, if any.
+    /// The first text outside a block, if any, and its first word.
     first_outside: Option<Site>,
+    /// The first word of the first text outside a block.
+    first_outside_word: String,
 }
 
 impl<'p> Reader<'p> {
@@ -203,6 +205,7 @@ impl<'p> Reader<'p> {
             dialect,
             any_block: false,
             first_outside: None,
+            first_outside_word: String::new(),
         }
     }
 
@@ -297,7 +300,10 @@ impl<'p> Reader<'p> {
                         closest(first.text, &HEADERS).map(|h| format!("did you mean `{h}`?"));
                     let last = line.words.last().unwrap_or(first);
                     let site = Site::span(i, first, last);
-                    self.first_outside.get_or_insert(site);
+                    if self.first_outside.is_none() {
+                        self.first_outside = Some(site);
+                        self.first_outside_word = first.text.chars().take(40).collect();
+                    }
                     // A binary file's "word" can be very long: quote its start.
                     let found: String = first.text.chars().take(40).collect();
                     let cut = if found.len() < first.text.len() {
@@ -368,6 +374,34 @@ impl<'p> Reader<'p> {
         }
         self.diags.settle(choice.dialect);
         let mut scene = self.builder.finish(choice);
+        if let (true, true, Some(site)) = (
+            self.any_block,
+            scene.objects().is_empty(),
+            self.first_outside,
+        ) {
+            // Every primitive skipped: an error, never an empty picture.
+            let word = &self.first_outside_word;
+            let like = match word.to_ascii_lowercase().as_str() {
+                "obj" | "object" | "objects" | "shape" | "geometry" => {
+                    format!("`{word}` reads like `primitive` (e.g. `primitive sphere`)")
+                }
+                _ => closest(word, &HEADERS).map_or_else(
+                    || "it is no block header glint knows".to_string(),
+                    |h| format!("`{word}` reads like `{h}`"),
+                ),
+            };
+            self.diags.error(
+                site,
+                format!(
+                    "nothing to render: no primitive was read, and this block was skipped; {like}"
+                ),
+                Some(
+                    "write primitives as `primitive TYPE` ... `end` blocks (docs/format.md)"
+                        .to_string(),
+                ),
+            );
+            self.diags.share_source_lines();
+        }
         let errors = self.diags.error_count();
         let all = self.diags.into_sorted();
         if errors > 0 {
@@ -1249,6 +1283,41 @@ primitive sphere
             d.map(|d| (d.line, d.column, d.len, d.file.as_str())),
             Some((0, 0, 0, "tests/data/no such file.txt"))
         );
+    }
+
+    #[test]
+    fn a_file_whose_every_primitive_is_skipped_is_an_error_naming_the_first() {
+        let camera =
+            "camera\n O= 0 -5 0\n N= 0 1 0\nend\nlight point\n O= 0 0 5\n color= 1 1 1\nend\n";
+        let objs = format!(
+            "{camera}obj sphere\n O= 0 0 0\n R= 1\nend\nobj plane\n N= 0 0 1\n R= 0\nend\n"
+        );
+        let e = parse_str(&objs, None, Path::new("."), None).unwrap_err();
+        let errors: Vec<_> = e
+            .diagnostics
+            .iter()
+            .filter(|d| d.severity == Severity::Error)
+            .map(|d| (d.line, d.message.as_str()))
+            .collect();
+        assert_eq!(
+            errors,
+            vec![(
+                9,
+                "nothing to render: no primitive was read, and this block was skipped; `obj` reads like `primitive` (e.g. `primitive sphere`)"
+            )]
+        );
+        // A misspelt header is named with the header it resembles.
+        let typo = format!("{camera}primitiv sphere\n O= 0 0 0\n R= 1\nend\n");
+        let e = parse_str(&typo, None, Path::new("."), None).unwrap_err();
+        assert!(
+            format!("{e}").contains("`primitiv` reads like `primitive`"),
+            "{e}"
+        );
+        // One primitive read: the skipped block is a warning, as before;
+        // and a file with no primitive and nothing skipped renders empty.
+        let one = format!("{objs}primitive sphere\n O= 0 0 0\n R= 1\nend\n");
+        assert!(parse_str(&one, None, Path::new("."), None).is_ok());
+        assert!(parse_str(camera, None, Path::new("."), None).is_ok());
     }
 
     #[test]
