@@ -69,10 +69,13 @@ pub fn k8s_manifests(job: &TileJob, options: &K8sOptions) -> Result<String, JobE
     let pod = Pod(options);
 
     let mut s = format!(
-        "# Written by `glint job k8s`: `kubectl apply -f` it. The Indexed Job {name}\n\
-         # renders {} in {n} tiles; the Job {name}-merge waits for them and writes {}.\n\
-         # The scene, its textures and meshes, the tiles and the output live on the\n\
-         # claim {}, mounted at {} in every pod.\n",
+        "# Written by `glint job k8s`: `kubectl apply -f` it. The Indexed Job\n\
+         # {name} renders\n\
+         #   {}\n\
+         # in {n} tiles; the Job {name}-merge waits for them and writes\n\
+         #   {}\n\
+         # The scene, its textures and meshes, the tiles and the output live on\n\
+         # the claim {}, mounted at {} in every pod.\n",
         job.scene, job.output, options.claim, options.mount
     );
     s.push_str(&format!(

@@ -87,9 +87,12 @@ pub fn slurm_script(job: &TileJob, options: &SlurmOptions) -> Result<String, Job
     let mut s = String::new();
     s.push_str("#!/bin/bash\n");
     s.push_str(&format!(
-        "# Written by `glint job slurm`: run it on the login node. It renders {} in {n}\n\
-         # tiles (an array job) and merges them into {out} once every task has succeeded.\n\
-         # GLINT_SBATCH names the sbatch command to use (default: sbatch).\n",
+        "# Written by `glint job slurm`: run it on the login node. It renders\n\
+         #   {}\n\
+         # in {n} tiles (an array job), then merges them into\n\
+         #   {out}\n\
+         # once every task has succeeded. GLINT_SBATCH names the sbatch command\n\
+         # to run (default: sbatch).\n",
         job.scene
     ));
     s.push_str("set -euo pipefail\n");

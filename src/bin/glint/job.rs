@@ -19,8 +19,9 @@ pub struct Args {
 #[derive(clap::Subcommand)]
 enum Engine {
     /// A bash script for a Slurm login node: it writes DIR/render.sbatch (an
-    /// array job, a task a tile) and DIR/merge.sbatch, submits both (the merge
-    /// after every task has succeeded) and prints their job IDs.
+    /// array job, a task a tile) and DIR/merge.sbatch, submits both with
+    /// $GLINT_SBATCH (default sbatch; the merge after every task has
+    /// succeeded) and prints their job IDs.
     Slurm(SlurmArgs),
     /// Kubernetes YAML: an Indexed Job rendering the tiles, and a Job that
     /// waits for them and merges them (`kubectl apply -f`).
@@ -37,7 +38,7 @@ struct TileArgs {
     /// The scene file.
     scene: PathBuf,
     /// Tiles to split the render into (tasks), 1 to 100000.
-    #[arg(long)]
+    #[arg(long, value_name = "N")]
     tiles: u32,
     /// The merged image; the format follows the extension (.png, .bmp, .exr or .hdr).
     #[arg(short, long)]
@@ -72,7 +73,7 @@ struct SlurmArgs {
     /// Each task's time limit, as sbatch takes it (`2:00:00`).
     #[arg(long)]
     time: Option<String>,
-    /// CPUs of each render task, and so its threads [default: as the cluster gives].
+    /// CPUs of each render task, and so its threads [default: 1].
     #[arg(long, value_parser = at_least_one::<u32>)]
     cpus_per_task: Option<u32>,
     /// The partition to run in.
