@@ -47,9 +47,15 @@ const SCENE: &str = "camera
     image_W= 32
     image_H= 24
 end
+light point
+    O= 0 0 5
+    color= 1 1 1
+end
 primitive sphere
-    O= 0 0 0
+    O= 0 5 0
     R= 1
+    color= 1 0 0
+    diff= 1
 end
 ";
 
@@ -877,4 +883,92 @@ fn the_scene_is_not_the_output() {
         &["slurm", "s.png", "--tiles", "2", "-o", "./s.png"],
         "refusing",
     );
+}
+
+#[test]
+fn slurm_tasks_and_k8s_pods_render_the_very_bytes_of_one_render() {
+    let s = setup();
+    let glint = env!("CARGO_BIN_EXE_glint");
+    // 70 rows: three bands, dealt unevenly to two tiles.
+    let options = [
+        "--width", "40", "--height", "70", "--seed", "5", "--aov", "depth",
+    ];
+    let single = Command::new(glint)
+        .args(["render", "sc ene's.txt", "-o", "single.png", "--quiet"])
+        .args(options)
+        .current_dir(&s.work)
+        .status()
+        .unwrap();
+    assert!(single.success());
+    let same = |merged: &str| {
+        for (a, b) in [
+            ("single.png", merged),
+            ("single.depth.png", &merged.replace(".png", ".depth.png")),
+        ] {
+            let a = std::fs::read(s.work.join(a)).unwrap();
+            let b = std::fs::read(s.work.join(b)).unwrap();
+            assert!(a == b, "{merged}: not the bytes of one render");
+        }
+    };
+
+    // Slurm: this glint in the batch files, each task run as Slurm runs it.
+    let args = [
+        &["slurm", "sc ene's.txt", "--tiles", "2", "-o", "slurm.png"][..],
+        &options,
+    ]
+    .concat();
+    let ran = s.bash(&s.script(&args), &[]);
+    assert!(
+        ran.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ran.stderr)
+    );
+    for i in ["0", "1"] {
+        let task = s.bash(
+            "bash slurm.tiles/render.sbatch",
+            &[("SLURM_ARRAY_TASK_ID", i)],
+        );
+        assert!(
+            task.status.success(),
+            "{}",
+            String::from_utf8_lossy(&task.stderr)
+        );
+    }
+    let merge = s.bash("bash slurm.tiles/merge.sbatch", &[]);
+    assert!(
+        merge.status.success(),
+        "{}",
+        String::from_utf8_lossy(&merge.stderr)
+    );
+    same("slurm.png");
+
+    // Kubernetes: the claim mounted where the scene is; each container's
+    // command run with JOB_COMPLETION_INDEX, the image's glint this one.
+    let mount = s.work.to_str().unwrap();
+    let args = [
+        &["k8s", "sc ene's.txt", "--tiles", "2", "-o", "k8s.png"][..],
+        &["--image", "i", "--claim", "c", "--mount", mount],
+        &options,
+    ]
+    .concat();
+    let yaml = s.script(&args);
+    let jobs = jobs(&yaml);
+    let run = |job: &Job, container: &str, index: u32| {
+        let mut words = command(job, container, index);
+        if words[0] == "glint" {
+            words[0] = glint.to_string();
+        }
+        let out = Command::new(&words[0]).args(&words[1..]).output().unwrap();
+        assert!(
+            out.status.success(),
+            "{words:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    };
+    for i in [1, 0] {
+        run(&jobs[0], "tiles-dir", i);
+        run(&jobs[0], "render", i);
+    }
+    run(&jobs[1], "merge", 0);
+    same("k8s.png");
 }

@@ -3,7 +3,7 @@
 /// Why a job script cannot be written; each names the option at fault.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum JobError {
-    /// A tile count outside 1 to [`MAX_TILES`](super::MAX_TILES).
+    /// A tile count outside 1 to [`MAX_JOB_TILES`](super::MAX_JOB_TILES).
     #[error("--tiles: {value} is out of range: a job has 1 to {max} tiles")]
     Tiles {
         /// The count asked for.

@@ -5,8 +5,9 @@ use super::error::{JobError, unfit};
 use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 
-/// The most tiles a job splits a render into (an array job's tasks).
-pub const MAX_TILES: u32 = 100_000;
+/// The most tiles a job splits a render into: Kubernetes' most completions
+/// of an Indexed Job, fewer than a render takes ([`crate::MAX_TILES`]).
+pub const MAX_JOB_TILES: u32 = 100_000;
 
 /// The tiles folder when none is given: the output with its extension
 /// replaced by `.tiles` (`out.png` → `out.tiles`).
@@ -46,13 +47,13 @@ pub struct TileJob {
 }
 
 impl TileJob {
-    /// A job of `tiles` tiles (1 to [`MAX_TILES`]); `options` are `glint
+    /// A job of `tiles` tiles (1 to [`MAX_JOB_TILES`]); `options` are `glint
     /// render`'s arguments as every task passes them (`--width`, `1920`, …).
     pub fn new(paths: JobPaths, tiles: u32, options: Vec<String>) -> Result<TileJob, JobError> {
-        if !(1..=MAX_TILES).contains(&tiles) {
+        if !(1..=MAX_JOB_TILES).contains(&tiles) {
             return Err(JobError::Tiles {
                 value: tiles,
-                max: MAX_TILES,
+                max: MAX_JOB_TILES,
             });
         }
         for option in &options {
