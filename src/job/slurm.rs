@@ -54,6 +54,7 @@ pub fn slurm_script(job: &TileJob, options: &SlurmOptions) -> Result<String, Job
         }
     }
     let dir = &job.tiles_dir;
+    // The logs folder in sbatch's file name patterns, where `%%` is a `%`.
     let logs = format!("{}/logs", dir.replace('%', "%%"));
     let render = format!("{dir}/render.sbatch");
     let merge = format!("{dir}/merge.sbatch");
