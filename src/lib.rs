@@ -33,6 +33,7 @@ pub mod geometry;
 mod geometry;
 mod image;
 mod integrator;
+pub mod job;
 mod output;
 #[cfg(feature = "bench")]
 #[doc(hidden)]

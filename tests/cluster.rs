@@ -476,7 +476,7 @@ fn names(dir: &Path) -> Vec<String> {
 }
 
 /// The strings of a YAML sequence (a container's `command` or `args`).
-fn strings(v: &serde_yaml::Value) -> Vec<String> {
+fn strings(v: &serde_norway::Value) -> Vec<String> {
     v.as_sequence()
         .map(|s| {
             s.iter()
@@ -492,7 +492,7 @@ fn strings(v: &serde_yaml::Value) -> Vec<String> {
 /// is the one under test: in place of a `glint` command, and in `bin`, first
 /// on PATH. It runs in `dir` (a pod's folder is its image's: the paths are absolute).
 fn run_container(
-    container: &serde_yaml::Value,
+    container: &serde_norway::Value,
     index: Option<usize>,
     bin: &Path,
     dir: &Path,
@@ -581,7 +581,7 @@ fn the_kubernetes_indexed_job_renders_the_picture_index_by_index() {
         "no podFailurePolicy rule failing the job on exit code 2:\n{yaml}"
     );
     let container =
-        |job: &serde_yaml::Value| job["spec"]["template"]["spec"]["containers"][0].clone();
+        |job: &serde_norway::Value| job["spec"]["template"]["spec"]["containers"][0].clone();
     let bin = s.sub("bin");
     std::os::unix::fs::symlink(GLINT, bin.join("glint")).expect("a glint on PATH");
     for i in 0..3 {
@@ -600,7 +600,7 @@ fn the_kubernetes_indexed_job_renders_the_picture_index_by_index() {
 }
 
 /// The documents of a YAML stream (`---` lines between them), empty ones left out.
-fn yaml_documents(yaml: &str) -> Vec<serde_yaml::Value> {
+fn yaml_documents(yaml: &str) -> Vec<serde_norway::Value> {
     let mut docs = vec![String::new()];
     for line in yaml.lines() {
         if line.trim_end() == "---" {
@@ -611,13 +611,13 @@ fn yaml_documents(yaml: &str) -> Vec<serde_yaml::Value> {
         }
     }
     docs.iter()
-        .map(|d| serde_yaml::from_str(d).unwrap_or_else(|e| panic!("YAML: {e}\n{yaml}")))
-        .filter(|d: &serde_yaml::Value| !d.is_null())
+        .map(|d| serde_norway::from_str(d).unwrap_or_else(|e| panic!("YAML: {e}\n{yaml}")))
+        .filter(|d: &serde_norway::Value| !d.is_null())
         .collect()
 }
 
 /// Whether a `podFailurePolicy`'s rules fail the job on exit code 2.
-fn fails_job_on_exit_2(rules: &serde_yaml::Value) -> bool {
+fn fails_job_on_exit_2(rules: &serde_norway::Value) -> bool {
     rules.as_sequence().into_iter().flatten().any(|r| {
         r["action"] == "FailJob"
             && r["onExitCodes"]["operator"] == "In"

@@ -1,7 +1,9 @@
 //! The argument groups and value parsers several subcommands share.
 
 use clap::Args;
-use glint::{Dialect, MAX_THREADS, PhotonFilter, PhotonMode, PhotonOptions, RenderOptions};
+use glint::{
+    Aov, Dialect, MAX_THREADS, PhotonFilter, PhotonMode, PhotonOptions, Region, RenderOptions,
+};
 
 /// What decides a picture's pixels beside the scene: its size, samples and seed.
 #[derive(Args)]
@@ -32,6 +34,52 @@ impl PixelArgs {
             ..base
         }
     }
+
+    /// The arguments that set them again, those left at their defaults left out.
+    pub fn to_args(&self) -> Vec<String> {
+        let mut args = Vec::new();
+        push(&mut args, "--width", self.width);
+        push(&mut args, "--height", self.height);
+        push(&mut args, "--seed", Some(self.seed).filter(|&s| s != 0));
+        push(&mut args, "--spp", self.spp);
+        args
+    }
+}
+
+/// What of the picture a render makes beside its colour: a region of it, and AOVs.
+#[derive(Args)]
+pub struct PictureArgs {
+    /// AOVs (arbitrary output values) to write beside the picture,
+    /// comma-separated: normal, depth, position, uv, primitive, albedo, rays,
+    /// light:N, shade, why, clamp, cost, photons (layers of an .exr; else
+    /// OUT.AOV.EXT files).
+    #[arg(long)]
+    aov: Option<String>,
+    /// Render only columns X0..X1 and rows Y0..Y1 (ends excluded, rows from
+    /// the top): `X0,Y0,X1,Y1`; its pixels are those of the whole render.
+    #[arg(long)]
+    region: Option<Region>,
+}
+
+impl PictureArgs {
+    /// The AOVs asked for (none without `--aov`), or why the list is wrong.
+    pub fn aovs(&self) -> Result<Vec<Aov>, String> {
+        match &self.aov {
+            Some(list) => Aov::parse_list(list).map_err(|e| format!("--aov: {e}")),
+            None => Ok(Vec::new()),
+        }
+    }
+
+    /// The arguments that set them again (`--aov` as it was given).
+    pub fn to_args(&self) -> Vec<String> {
+        let mut args = Vec::new();
+        push(&mut args, "--aov", self.aov.as_deref());
+        let region = self
+            .region
+            .map(|r| format!("{},{},{},{}", r.x, r.y, r.x + r.width, r.y + r.height));
+        push(&mut args, "--region", region);
+        args
+    }
 }
 
 /// The photon options of `render` and `explain`.
@@ -61,6 +109,17 @@ impl PhotonArgs {
             filter: self.photon_filter,
         }
     }
+
+    /// The arguments that set them again, those left at their defaults left out.
+    pub fn to_args(&self) -> Vec<String> {
+        let mut args = Vec::new();
+        push(&mut args, "--photons", self.photons.map(PhotonMode::name));
+        push(&mut args, "--iterations", self.iterations);
+        push(&mut args, "--emit", self.emit);
+        let filter = Some(self.photon_filter).filter(|&f| f != PhotonFilter::default());
+        push(&mut args, "--photon-filter", filter.map(PhotonFilter::name));
+        args
+    }
 }
 
 /// `--dialect`, shared by every command that reads a scene.
@@ -70,6 +129,22 @@ pub struct DialectArg {
     /// (or a repository's name) [default: chosen by the file's markers]
     #[arg(long)]
     pub dialect: Option<Dialect>,
+}
+
+impl DialectArg {
+    /// The arguments that set it again (none when the markers choose).
+    pub fn to_args(&self) -> Vec<String> {
+        let mut args = Vec::new();
+        push(&mut args, "--dialect", self.dialect.map(Dialect::name));
+        args
+    }
+}
+
+/// Appends `option VALUE` to `args` when there is a value.
+fn push(args: &mut Vec<String>, option: &str, value: Option<impl ToString>) {
+    if let Some(value) = value {
+        args.extend([option.to_string(), value.to_string()]);
+    }
 }
 
 /// Parses a whole number that must be at least 1 (`--spp`, `--threads`);

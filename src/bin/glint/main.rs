@@ -7,6 +7,7 @@ mod args;
 mod check;
 mod compare;
 mod explain;
+mod job;
 mod memory;
 mod merge;
 mod probe;
@@ -55,6 +56,9 @@ enum Command {
     /// A live page of the scene, rendered again on every save of it or of
     /// a texture or mesh it uses; hover and click explain pixels.
     Serve(serve::Args),
+    /// Write the job that renders a scene as tiles on Slurm, Kubernetes or
+    /// GNU parallel and merges them (printed; nothing is submitted).
+    Job(job::Args),
 }
 
 /// Text from a scene or a path made safe for a terminal: each line through
@@ -147,6 +151,7 @@ fn main() -> ExitCode {
         Command::Serve(args) => serve::exec(args, &interrupt_flag()),
         Command::Merge(args) => merge::exec(args, &interrupt_flag()),
         Command::Tiles(args) => tiles::exec(args),
+        Command::Job(args) => job::exec(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
