@@ -584,8 +584,13 @@ fn the_kubernetes_indexed_job_renders_the_picture_index_by_index() {
         |job: &serde_norway::Value| job["spec"]["template"]["spec"]["containers"][0].clone();
     let bin = s.sub("bin");
     std::os::unix::fs::symlink(GLINT, bin.join("glint")).expect("a glint on PATH");
+    // Each pod runs its init containers (the tiles folder made) first.
+    let inits = indexed[0]["spec"]["template"]["spec"]["initContainers"].clone();
     for i in 0..3 {
         let what = format!("index {i}");
+        for init in inits.as_sequence().into_iter().flatten() {
+            run_container(init, Some(i), &bin, s.path(), &format!("{what}'s init"));
+        }
         run_container(&container(indexed[0]), Some(i), &bin, s.path(), &what);
     }
     run_container(
