@@ -70,6 +70,11 @@ impl PictureArgs {
         }
     }
 
+    /// The region asked for, if any.
+    pub fn region(&self) -> Option<Region> {
+        self.region
+    }
+
     /// The arguments that set them again (`--aov` as it was given).
     pub fn to_args(&self) -> Vec<String> {
         let mut args = Vec::new();

@@ -1,12 +1,12 @@
 //! `glint render`: a scene to an image, with a progress bar and a summary.
 
-use crate::args::{DialectArg, PhotonArgs, PixelArgs, at_least_one, thread_count};
+use crate::args::{DialectArg, PhotonArgs, PictureArgs, PixelArgs, at_least_one, thread_count};
 use crate::memory::{memory_available, memory_held};
 use crate::tile;
 use crate::{
     Failure, check_interrupt, fail, load_scene, refuse_scene_as_output, render_failure, say,
 };
-use glint::{Aov, Control, Film, Format, Region, RenderOptions, Renderer, Tile};
+use glint::{Control, Film, Format, RenderOptions, Renderer, Tile};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -32,16 +32,8 @@ pub struct Args {
     /// Also print notes (where textures were found) and a breakdown of the rays.
     #[arg(short, long)]
     verbose: bool,
-    /// AOVs (arbitrary output values) to write beside the picture,
-    /// comma-separated: normal, depth, position, uv, primitive, albedo, rays,
-    /// light:N, shade, why, clamp, cost, photons (layers of an .exr; else
-    /// OUT.AOV.EXT files).
-    #[arg(long)]
-    aov: Option<String>,
-    /// Render only columns X0..X1 and rows Y0..Y1 (ends excluded, rows from
-    /// the top): `X0,Y0,X1,Y1`; its pixels are those of the whole render.
-    #[arg(long)]
-    region: Option<Region>,
+    #[command(flatten)]
+    picture: PictureArgs,
     /// PPM and SPPM: write the picture every N iterations (atomically; Ctrl-C
     /// writes the last complete iteration).
     #[arg(long, default_value_t = 10, value_parser = at_least_one::<u64>)]
@@ -93,11 +85,11 @@ pub fn exec(args: Args, interrupt: &AtomicBool) -> Result<(), Failure> {
     }
     let options = args.pixels.apply(RenderOptions {
         threads: args.threads,
-        region: args.region,
-        aovs: match &args.aov {
-            Some(list) => Aov::parse_list(list).map_err(|e| fail(format!("error: --aov: {e}")))?,
-            None => Vec::new(),
-        },
+        region: args.picture.region(),
+        aovs: args
+            .picture
+            .aovs()
+            .map_err(|e| fail(format!("error: {e}")))?,
         photons: args.photons.options(),
         tile: args.tile,
         ..RenderOptions::default()
