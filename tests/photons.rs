@@ -8,12 +8,7 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// A glass ball over a floor under a point light, in the variant dialect v.
-const GLASS: &str = "camera\n O= 0 -6 2\n N= 0 1 -0.2\n image_W= 40\n image_H= 30\n\
-    sample_photons= 20\n sample_dist= 0.3\n algorithm= RT\nend\n\
-    light point\n O= 0 0 5\n color= 20 20 20\nend\n\
-    primitive plane\n N= 0 0 1\n R= 0\n color= 0.8 0.8 0.8\n diff= 1\nend\n\
-    primitive plane\n N= 0 -1 0\n R= -3\n color= 0.8 0.3 0.3\n diff= 1\nend\n\
-    primitive sphere\n O= 0 0 1\n R= 1\n color= 1 1 1\n refr= 1\n rindex= 1.5\nend\n";
+const GLASS: &str = include_str!("data/glass.txt");
 
 fn renderer(text: &str) -> Renderer {
     Renderer::new(Scene::parse(text, ".").unwrap_or_else(|e| panic!("parses:\n{e}")))

@@ -9,25 +9,11 @@ use glint::{
 };
 use proptest::prelude::*;
 
-/// Edges, a mirror, glass, a glossy floor, shadows of a point and an area
-/// light under a gradient sky: every kind of event the anti-aliasing sees.
-const SCENE: &str = "background\n top= 0.6 0.7 0.9\n bottom= 0.1 0.1 0.1\nend\n\
-    camera\n O= 0 -8 3\n N= 0 1 -0.3\n image_W= 40\n image_H= 30\n shade_quality= 1\n drefl_quality= 1\nend\n\
-    light point\n O= 4 -6 8\n color= 0.8 0.8 0.8\nend\n\
-    light square\n O= -3 0 6\n Dx= 0.5 0 0\n Dy= 0 0.5 0\n color= 0.4 0.4 0.4\nend\n\
-    primitive plane\n N= 0 0 1\n R= 0\n color= 0.8 0.8 0.8\n diff= 0.7\n refl= 0.2\n drefl= 0.1\nend\n\
-    primitive cube\n O= 1.5 0 1\n x= 0.7\n y= 0.7\n z= 0.7\n color= 1 0.3 0.2\n diff= 0.6\n refl= 0.3\nend\n\
-    primitive sphere\n O= -1.2 -0.5 1\n R= 1\n color= 1 1 1\n refr= 0.9\n rindex= 1.5\n absor= 0.2 0.1 0\nend\n\
-    primitive cylinder\n O1= 0 2 0\n O2= 0 2 2.5\n R= 0.4\n color= 0.2 0.9 0.3\n diff= 0.8\n spec= 0.3\nend\n";
+/// Every kind of event the anti-aliasing sees.
+const SCENE: &str = include_str!("data/events.txt");
 
-/// A glass ball over a floor under a point light, in the variant dialect
-/// v (photon keys): caustics for PM, PPM and SPPM.
-const GLASS: &str = "camera\n O= 0 -6 2\n N= 0 1 -0.2\n image_W= 40\n image_H= 30\n\
-    sample_photons= 20\n sample_dist= 0.3\n algorithm= RT\nend\n\
-    light point\n O= 0 0 5\n color= 20 20 20\nend\n\
-    primitive plane\n N= 0 0 1\n R= 0\n color= 0.8 0.8 0.8\n diff= 1\nend\n\
-    primitive plane\n N= 0 -1 0\n R= -3\n color= 0.8 0.3 0.3\n diff= 1\nend\n\
-    primitive sphere\n O= 0 0 1\n R= 1\n color= 1 1 1\n refr= 1\n rindex= 1.5\nend\n";
+/// A glass ball on a floor: caustics for PM, PPM and SPPM.
+const GLASS: &str = include_str!("data/glass.txt");
 
 fn renderer(text: &str) -> Renderer {
     Renderer::new(Scene::parse(text, ".").unwrap_or_else(|e| panic!("parses:\n{e}")))

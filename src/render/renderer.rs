@@ -479,14 +479,7 @@ mod tests {
     /// a mirror, glass, shadows of a point and an area light, a texture-free
     /// gradient sky.
     fn scene() -> Renderer {
-        let text = "background\n top= 0.6 0.7 0.9\n bottom= 0.1 0.1 0.1\nend\n\
-             camera\n O= 0 -8 3\n N= 0 1 -0.3\n image_W= 40\n image_H= 30\n shade_quality= 1\n drefl_quality= 1\nend\n\
-             light point\n O= 4 -6 8\n color= 0.8 0.8 0.8\nend\n\
-             light square\n O= -3 0 6\n Dx= 0.5 0 0\n Dy= 0 0.5 0\n color= 0.4 0.4 0.4\nend\n\
-             primitive plane\n N= 0 0 1\n R= 0\n color= 0.8 0.8 0.8\n diff= 0.7\n refl= 0.2\n drefl= 0.1\nend\n\
-             primitive cube\n O= 1.5 0 1\n x= 0.7\n y= 0.7\n z= 0.7\n color= 1 0.3 0.2\n diff= 0.6\n refl= 0.3\nend\n\
-             primitive sphere\n O= -1.2 -0.5 1\n R= 1\n color= 1 1 1\n refr= 0.9\n rindex= 1.5\n absor= 0.2 0.1 0\nend\n\
-             primitive cylinder\n O1= 0 2 0\n O2= 0 2 2.5\n R= 0.4\n color= 0.2 0.9 0.3\n diff= 0.8\n spec= 0.3\nend\n";
+        let text = include_str!("../../tests/data/events.txt");
         match Scene::parse(text, ".") {
             Ok(s) => Renderer::new(s),
             Err(e) => panic!("{e}"), // invariant: the test's own fixed input (a failure fails the test)
