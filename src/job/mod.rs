@@ -16,4 +16,5 @@ pub use error::JobError;
 pub use k8s::{K8sOptions, k8s_manifests};
 pub use parallel::{ParallelOptions, parallel_line};
 pub use plan::{JobPaths, MAX_JOB_TILES, TileJob, default_name, default_tiles_dir};
+pub(crate) use shell::quote;
 pub use slurm::{SlurmOptions, slurm_script};

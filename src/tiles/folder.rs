@@ -3,7 +3,9 @@
 
 use super::file::{ReadError, TileFile};
 use super::fingerprint::Fingerprint;
+use super::indices::index_list;
 use crate::image::Image;
+use crate::job::quote;
 use crate::output::{PrimitiveTable, primitive_colour};
 use crate::render::{AssembleError, Film, Region, Tile};
 use std::collections::BTreeMap;
@@ -168,9 +170,42 @@ impl Folder {
             .collect()
     }
 
-    /// The command line that rendered a part that is done, if any.
-    pub fn command(&self) -> Option<&[String]> {
-        self.tiles.values().next().map(|t| t.command.as_slice())
+    /// The bash command that renders the parts `redo` again: the array job
+    /// `glint job slurm` wrote into the folder (`sbatch --array=2,7
+    /// DIR/render.sbatch`), else a loop over the command of a part that is
+    /// done, its `--tile` made the loop's.
+    pub fn rerun(&self, redo: &[u32]) -> String {
+        let list = index_list(redo);
+        let script = self.dir.join("render.sbatch");
+        if script.is_file() {
+            return format!("sbatch --array={list} {}", quote(&script.to_string_lossy()));
+        }
+        let n = self.count;
+        let Some(command) = self.tiles.values().next().map(|t| &t.command) else {
+            let dir = quote(&self.dir.to_string_lossy()).into_owned();
+            return format!(
+                "glint render SCENE --tile I/{n} --tiles-dir {dir} [the same options] for I in {list}"
+            );
+        };
+        let words: Vec<String> = command
+            .iter()
+            .enumerate()
+            .map(|(k, w)| {
+                if k > 0 && command[k - 1] == "--tile" {
+                    format!("\"$i/{n}\"")
+                } else if w.starts_with("--tile=") {
+                    format!("--tile=\"$i/{n}\"")
+                } else {
+                    quote(w).into_owned()
+                }
+            })
+            .collect();
+        let each = redo
+            .iter()
+            .map(u32::to_string)
+            .collect::<Vec<_>>()
+            .join(" ");
+        format!("for i in {each}; do {}; done", words.join(" "))
     }
 
     /// The film the parts make, when every one is done.

@@ -3,7 +3,7 @@
 
 use crate::{Failure, fail};
 use glint::tiles::{Folder, TileState, index_list};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// The arguments of `glint tiles`.
 #[derive(clap::Args)]
@@ -92,64 +92,11 @@ pub fn report(folder: &Folder) -> Report {
     let redo = folder.not_done();
     if !redo.is_empty() {
         lines.push(format!("to render again: {}", index_list(&redo)));
-        lines.push(rerun(folder, &redo));
+        lines.push(format!("rerun: {}", folder.rerun(&redo)));
     }
     Report {
         count: n,
         complete: redo.is_empty(),
         lines,
-    }
-}
-
-/// The command that renders the parts `redo` again: the Slurm job script
-/// `glint job slurm` wrote into the folder, else the command of a done tile.
-fn rerun(folder: &Folder, redo: &[u32]) -> String {
-    let list = index_list(redo);
-    let script = folder.dir.join("render.sbatch");
-    if script.is_file() {
-        return format!("rerun: sbatch --array={list} {}", quoted(&script));
-    }
-    let Some(command) = folder.command() else {
-        return format!(
-            "rerun: glint render SCENE --tile I/{} --tiles-dir {} [the same options] for I in {list}",
-            folder.count,
-            quoted(&folder.dir)
-        );
-    };
-    // The command with `--tile I/N` (or `--tile=I/N`) made a loop variable.
-    let words: Vec<String> = command
-        .iter()
-        .enumerate()
-        .map(|(k, w)| {
-            let after_flag = k > 0 && command[k - 1] == "--tile";
-            if after_flag {
-                format!("\"$i/{}\"", folder.count)
-            } else if w.starts_with("--tile=") {
-                format!("--tile=\"$i/{}\"", folder.count)
-            } else {
-                shell_word(w)
-            }
-        })
-        .collect();
-    let list = redo
-        .iter()
-        .map(u32::to_string)
-        .collect::<Vec<_>>()
-        .join(" ");
-    format!("rerun: for i in {list}; do {}; done", words.join(" "))
-}
-
-/// A path as one shell word.
-fn quoted(path: &Path) -> String {
-    shell_word(&path.display().to_string())
-}
-
-/// `s` as one shell word: bare when safe, else in single quotes.
-fn shell_word(s: &str) -> String {
-    let safe = |c: char| c.is_ascii_alphanumeric() || "-_./=:,+@%".contains(c);
-    if !s.is_empty() && s.chars().all(safe) {
-        s.to_string()
-    } else {
-        format!("'{}'", s.replace('\'', "'\\''"))
     }
 }
