@@ -171,3 +171,37 @@ fn parts_that_overlap_or_leave_a_gap_do_not_assemble() {
     let other = Film::assemble((10, 71), Region::full(10, 71), part(0, 1));
     assert!(matches!(other, Err(AssembleError::Frame { .. })));
 }
+
+#[test]
+fn bands_stream_nearest_first_and_make_the_whole_render() {
+    let r = renderer(SCENE);
+    for (threads, spp) in [(1, None), (2, None), (2, Some(2))] {
+        let o = RenderOptions {
+            width: Some(30),
+            height: Some(150), // bands at rows 0, 32, 64, 96 and 128 (22 rows)
+            spp,
+            threads: Some(threads),
+            aovs: vec![Aov::Primitive],
+            ..RenderOptions::default()
+        };
+        let seen = std::sync::Mutex::new(Vec::new());
+        let (film, _) = r
+            .render_bands(&o, Some(100), Control::default(), &|band| {
+                seen.lock().expect("not poisoned").push(band.clone());
+            })
+            .expect("renders");
+        assert_eq!(film, whole(&r, &o), "{threads} threads, spp {spp:?}");
+        let seen = seen.into_inner().expect("not poisoned");
+        let mut rows: Vec<u32> = seen.iter().map(|b| b.region().y).collect();
+        if threads == 1 {
+            // Nearest row 100 first: the band of 96..128, then 64..96 and
+            // 128..150 (centres 80 and 139), then 32..64, then 0..32.
+            assert_eq!(rows, vec![96, 64, 128, 32, 0]);
+        }
+        rows.sort_unstable();
+        assert_eq!(rows, vec![0, 32, 64, 96, 128], "each band once");
+        // Each band is those rows of the whole render, at full resolution.
+        let pasted = Film::assemble((30, 150), Region::full(30, 150), seen).expect("assembles");
+        assert_eq!(pasted, film);
+    }
+}

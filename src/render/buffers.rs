@@ -22,6 +22,7 @@ pub(crate) struct Keep<'a> {
 }
 
 /// What the passes over a region produce.
+#[derive(Clone)]
 pub(crate) struct Rendered {
     /// The region's colours, rows from the top.
     pub pixels: Vec<[f32; 3]>,

@@ -186,8 +186,8 @@ fn ppm_hit_points(
         progress: &|_, _| {},
         cancel: watch.cancel,
     };
-    let done =
-        render_runs(p.frame, runs, spp, Keep::default(), &quiet).ok_or(Unfinished::Cancelled)?;
+    let done = render_runs(p.frame, runs, spp, Keep::default(), &quiet, &|_, _| {})
+        .ok_or(Unfinished::Cancelled)?;
     done.iter().for_each(|d| rays.add(&d.rays));
     let (seeds, r) = match spp {
         Some(n) => {

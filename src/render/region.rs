@@ -16,14 +16,16 @@ use rayon::prelude::*;
 
 /// For each of `runs` (regions of the frame apart from each other), the
 /// colours of its pixels, the rays traced, the pixels anti-aliased and
-/// what `keep` asks for; the runs side by side on the threads, told to
-/// `watch` as one job; `None` when cancelled.
+/// what `keep` asks for; the runs side by side on the threads, taken in
+/// their order, told to `watch` as one job, each handed to `done` with its
+/// index as it is finished; `None` when cancelled.
 pub(crate) fn render_runs(
     frame: &Frame,
     runs: &[Region],
     spp: Option<u32>,
     keep: Keep,
     watch: &Watch,
+    done: &(dyn Fn(usize, &Rendered) + Sync),
 ) -> Option<Vec<Rendered>> {
     let adaptive = spp.is_none() && frame.refine_count() > 0;
     let spp = spp.map(|n| n.max(1));
@@ -37,9 +39,13 @@ pub(crate) fn render_runs(
     };
     let total = runs.iter().map(|r| area(r).area()).sum::<u64>() * u64::from(spp.unwrap_or(1));
     let progress = Progress::new(watch, total);
-    let done: Vec<Option<Rendered>> = runs
-        .par_iter()
-        .map(|&region| {
+    // Bridged: the workers take the runs in their order (nearest first, for
+    // a page that shows them as they come), each run's bands in parallel.
+    let mut finished: Vec<(usize, Option<Rendered>)> = runs
+        .iter()
+        .enumerate()
+        .par_bridge()
+        .map(|(i, &region)| {
             let pass = Pass1 {
                 frame,
                 area: area(&region),
@@ -48,10 +54,15 @@ pub(crate) fn render_runs(
                 keep,
                 progress: &progress,
             };
-            passes(&pass, region)
+            let rendered = passes(&pass, region);
+            if let Some(r) = &rendered {
+                done(i, r);
+            }
+            (i, rendered)
         })
         .collect();
-    done.into_iter().collect()
+    finished.sort_unstable_by_key(|(i, _)| *i);
+    finished.into_iter().map(|(_, r)| r).collect()
 }
 
 /// Pass 1 over `pass.area` and, with the adaptive anti-aliasing, pass 2

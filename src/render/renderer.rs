@@ -9,6 +9,7 @@ use super::frame::Frame;
 use super::progress::Watch;
 use super::region::render_runs;
 use super::shading_aovs::{LIGHT_AOVS_MAX, ShadingAovs};
+use super::tile::Tile;
 use super::{Control, PhotonStats, RenderError, RenderOptions, RenderStats, Stage};
 use super::{memory, photons, schedule};
 use crate::image::Image;
@@ -105,7 +106,7 @@ impl Renderer {
         }
         let (w, h) = self.frame_size(options)?;
         let region = self.region(options, (w, h))?;
-        let (mut films, stats) = self.render_runs(options, &[region], control)?;
+        let (mut films, stats) = self.render_runs(options, &[region], control, None)?;
         // One run, one film.
         let film = films.pop().ok_or(RenderError::Cancelled)?;
         Ok((film, stats))
@@ -126,7 +127,43 @@ impl Renderer {
             Some(tile) => tile.runs(region),
             None => vec![region],
         };
-        self.render_runs(options, &runs, control)
+        self.render_runs(options, &runs, control, None)
+    }
+
+    /// The render `options` ask for (all of it: no part), band by band
+    /// ([`TILE_BAND`](super::TILE_BAND) rows, nearest the row `near` first; the region's
+    /// middle without one), each band's film handed to `band` as soon as
+    /// it is done, from whichever thread rendered it; then the whole film,
+    /// the very values [`Renderer::render_with`] gives. PPM and SPPM,
+    /// whose picture is whole after each iteration, hand over that one
+    /// film at the end.
+    pub fn render_bands(
+        &self,
+        options: &RenderOptions,
+        near: Option<u32>,
+        control: Control<'_>,
+        band: &(dyn Fn(&Film) + Sync),
+    ) -> Result<(Film, RenderStats), RenderError> {
+        let whole = RenderOptions {
+            tile: None,
+            ..options.clone()
+        };
+        if Plan::of(&self.scene, &options.photons).0.mode.progressive() {
+            let (film, stats) = self.render_with(&whole, control)?;
+            band(&film);
+            return Ok((film, stats));
+        }
+        let (w, h) = self.frame_size(options)?;
+        let region = self.region(options, (w, h))?;
+        let near = near.unwrap_or(region.y + region.height / 2);
+        let mut order: Vec<Region> = (0..Tile::bands_of(region.height))
+            .map(|b| Tile::band(region, b))
+            .collect();
+        order.sort_by_key(|b| (b.y + b.height / 2).abs_diff(near));
+        let (films, stats) = self.render_runs(&whole, &order, control, Some(band))?;
+        // The bands cover the region once, by construction.
+        let film = Film::assemble((w, h), region, films).expect("a region's bands cover it once");
+        Ok((film, stats))
     }
 
     /// The region `options` render in a `frame`: theirs, if inside it, or all of it.
@@ -142,12 +179,15 @@ impl Renderer {
         Ok(region)
     }
 
-    /// The films of `runs` (regions of the frame apart from each other), one each.
+    /// The films of `runs` (regions of the frame apart from each other),
+    /// one each, rendered in their order, each handed to `each` (if any) as
+    /// it is done (PPM and SPPM: none is).
     fn render_runs(
         &self,
         options: &RenderOptions,
         runs: &[Region],
         control: Control<'_>,
+        each: Option<&(dyn Fn(&Film) + Sync)>,
     ) -> Result<(Vec<Film>, RenderStats), RenderError> {
         let start = Instant::now();
         let (w, h) = self.frame_size(options)?;
@@ -164,9 +204,16 @@ impl Renderer {
                 max: LIGHT_AOVS_MAX,
             }
         })?;
+        let aovs = &options.aovs;
+        let done = |i: usize, r: &Rendered| {
+            if let (Some(each), Some(&run)) = (each, runs.get(i)) {
+                each(&film_of(r.clone(), (w, h), run, aovs));
+            }
+        };
         let job = RegionJob {
             frame: &frame,
             runs,
+            done: &done,
             spp,
             keep: Keep {
                 rays: options.aovs.contains(&Aov::Rays),
@@ -425,6 +472,8 @@ impl Renderer {
 struct RegionJob<'j> {
     frame: &'j Frame<'j>,
     runs: &'j [Region],
+    /// Told each run's passes as they finish.
+    done: &'j (dyn Fn(usize, &Rendered) + Sync),
     spp: Option<u32>,
     keep: Keep<'j>,
     watch: &'j Watch<'j>,
@@ -435,7 +484,9 @@ impl RegionJob<'_> {
     /// The runs' passes, keeping what the job asks for, on its threads.
     fn trace(&self) -> Result<Vec<Rendered>, RenderError> {
         let done = schedule::with_threads(self.threads, || {
-            render_runs(self.frame, self.runs, self.spp, self.keep, self.watch)
+            render_runs(
+                self.frame, self.runs, self.spp, self.keep, self.watch, self.done,
+            )
         });
         done.ok_or(RenderError::Cancelled)
     }
