@@ -550,3 +550,62 @@ fn memory_over_a_thousand_saves() {
         start.elapsed().as_secs_f64() // 1000 saves: this many ms each
     );
 }
+
+#[test]
+fn the_picture_sharpens_band_by_band_into_renders_bytes() {
+    let tmp = temp_dir("bands");
+    let dir = tmp.path();
+    let scene = dir.join("scene.txt");
+    // 320×640 at 16 samples a pixel: about a second on two cores, 20 bands.
+    save(&scene, &scene_text(320, 640, "1 0.5 0"));
+    let s = Served::start(&scene, &["--spp", "16"]);
+    let rx = s.events();
+    // The row under the pointer, for the next render; a bad one is refused.
+    assert_eq!(s.get("/api/focus?y=600").status, 200);
+    assert_eq!(s.get("/api/focus?y=top").status, 400);
+    let stages = std::cell::RefCell::new(Vec::new());
+    wait_event(&rx, WAIT, |n, d| {
+        if n == "frame" && d["version"] == 1 {
+            stages
+                .borrow_mut()
+                .push(d["stage"].as_str().unwrap_or("").to_string());
+            // Every frame stands for the full size; the bands are full size too.
+            assert_eq!(d["full"], serde_json::json!([320, 640]), "{d}");
+            if d["stage"] == "bands" {
+                assert_eq!(
+                    (d["width"].as_u64(), d["height"].as_u64()),
+                    (Some(320), Some(640))
+                );
+            }
+        }
+        n == "frame" && d["stage"] == "final" && d["version"] == 1
+    });
+    let stages = stages.into_inner();
+    assert_eq!(
+        stages.first().map(String::as_str),
+        Some("coarse"),
+        "{stages:?}"
+    );
+    assert_eq!(
+        stages.last().map(String::as_str),
+        Some("final"),
+        "{stages:?}"
+    );
+    assert!(
+        stages[1..stages.len() - 1].iter().all(|s| s == "bands") && stages.len() >= 3,
+        "the bands come between the preview and the whole: {stages:?}"
+    );
+    // The whole is the very bytes of glint render.
+    let out = dir.join("out.png");
+    let rendered = std::process::Command::new(env!("CARGO_BIN_EXE_glint"))
+        .args(["render", "--quiet", "--spp", "16", "-o"])
+        .arg(&out)
+        .arg(&scene)
+        .status()
+        .expect("glint render");
+    assert!(rendered.success());
+    assert!(
+        s.get("/api/image.png").body == std::fs::read(&out).expect("rendered"),
+        "the page's final picture is not glint render's bytes"
+    );
+}

@@ -174,6 +174,16 @@
   }
 
   // --- hover --------------------------------------------------------------
+  // The row under the pointer, told at most every 200 ms: the next render
+  // (the next save) starts with the bands nearest it.
+  let focusSent = 0;
+  function focus(y) {
+    const now = Date.now();
+    if (now - focusSent < 200) return;
+    focusSent = now;
+    fetch(api('/api/focus?y=' + y)).catch(() => {});
+  }
+
   function pixelAt(e) {
     const f = g.frame;
     if (!f) return null;
@@ -201,7 +211,9 @@
     const k = p.fy * g.ids.w + p.fx;
     const id = g.ids.ids[k];
     const b = g.pixels ? [g.pixels[4 * k], g.pixels[4 * k + 1], g.pixels[4 * k + 2]] : [];
-    const coarse = g.frame.stage === 'coarse' ? '  (coarse preview)' : '';
+    const coarse = g.frame.stage === 'coarse' ? '  (coarse preview)'
+      : g.frame.stage === 'bands' ? '  (rendering: bands at full resolution come in)' : '';
+    focus(p.y);
     $('hover').textContent = '(' + p.x + ', ' + p.y + ')  ' + describe(id) + '  bytes ' + b.join(' ') + coarse;
   });
 

@@ -89,6 +89,19 @@ pub(crate) fn route(shared: &Shared, token: &str, path: &str, query: &[(String, 
         "/api/events" => Reply::Events,
         "/api/image.png" | "/api/ids" => picture_part(shared, path == "/api/ids", query),
         "/api/explain" => explain(shared, query),
+        "/api/focus" => match param(query, "y").map(str::parse::<u32>) {
+            Some(Ok(row)) => {
+                shared.set_focus_row(row);
+                text(
+                    200,
+                    "ok: the next render starts with the bands nearest that row",
+                )
+            }
+            _ => text(
+                400,
+                "bad request: focus takes y=ROW, the picture's row under the pointer",
+            ),
+        },
         "/api/theirs.png" => match &shared.theirs {
             Some(png) => Reply::Done(200, "image/png", Body::Shared(png.clone())),
             None => text(404, "not found: glint serve was started without --compare"),

@@ -104,6 +104,8 @@ pub(crate) struct Shared {
     pub progress: [AtomicU64; 2],
     /// The last picture's number.
     pictures: AtomicU64,
+    /// The row the pointer was last over on a page, plus one (0: none).
+    focus: AtomicU64,
 }
 
 impl Shared {
@@ -129,6 +131,21 @@ impl Shared {
             options,
             progress: [AtomicU64::new(0), AtomicU64::new(0)],
             pictures: AtomicU64::new(0),
+            focus: AtomicU64::new(0),
+        }
+    }
+
+    /// Notes the row of the picture the pointer is over: the next render
+    /// starts with the bands nearest it.
+    pub fn set_focus_row(&self, row: u32) {
+        self.focus.store(u64::from(row) + 1, Ordering::Relaxed);
+    }
+
+    /// The row the pointer was last over, if it was.
+    pub fn focus_row(&self) -> Option<u32> {
+        match self.focus.load(Ordering::Relaxed) {
+            0 => None,
+            r => u32::try_from(r - 1).ok(),
         }
     }
 

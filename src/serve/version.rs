@@ -1,14 +1,16 @@
 //! One version of the scene, stage by stage: the file read (or its errors
 //! shown, the last good picture left in place), the picture (a coarse
-//! preview, then the full image), the AOVs, the comparison. Each stage
+//! preview, sharpening band by band, then the full image), the AOVs, the
+//! comparison. Each stage
 //! publishes what it made as soon as it is ready, and a set cancel flag
 //! (the next save) stops the version between and inside stages.
 
 use super::file_watch::FileWatch;
 use super::picture::Picture;
 use super::state::{Compared, Phase, Shared};
+use crate::image::Image;
 use crate::output::Format;
-use crate::render::{Aov, Control, Film, RenderError, RenderOptions, Renderer, Stage};
+use crate::render::{Aov, Control, Film, Region, RenderError, RenderOptions, Renderer};
 use crate::scene::{Diagnostic, Dialect, Scene, Severity};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -25,6 +27,79 @@ const COARSE_RAYS: u64 = 1_000_000;
 /// Bands the AOVs are rendered in: the AOVs are made without
 /// a look at the cancel flag, so a save waits for one band at most.
 const AOV_BANDS: u32 = 64;
+
+/// Which picture of a version the page is shown.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Shown {
+    /// The coarse preview.
+    Coarse,
+    /// The preview with the bands done so far at full resolution.
+    Bands,
+    /// The whole picture: `render`'s bytes.
+    Final,
+}
+
+/// The picture as it sharpens: the coarse preview blown up to the full
+/// size (or black), each band pasted over it at full resolution as it comes.
+struct Sharpening {
+    frame: (u32, u32),
+    colour: Vec<[f32; 3]>,
+    ids: Vec<f32>,
+}
+
+impl Sharpening {
+    /// The full `frame` from `coarse` (nearest pixel), or black without one.
+    fn new(coarse: Option<&Film>, frame: (u32, u32)) -> Sharpening {
+        let (w, h) = frame;
+        let n = w as usize * h as usize;
+        let mut s = Sharpening {
+            frame,
+            colour: vec![[0.0; 3]; n],
+            ids: vec![-1.0; n],
+        };
+        if let Some(c) = coarse {
+            let image = c.image();
+            let (cw, ch) = (image.width(), image.height());
+            let ids = c.aov(Aov::Primitive);
+            for y in 0..h {
+                for x in 0..w {
+                    let (sx, sy) = ((x * cw / w).min(cw - 1), (y * ch / h).min(ch - 1));
+                    let at = (y * w + x) as usize;
+                    s.colour[at] = image.pixel(sx, sy);
+                    if let Some(p) = ids {
+                        s.ids[at] = p.data[(sy * cw + sx) as usize];
+                    }
+                }
+            }
+        }
+        s
+    }
+
+    /// Pastes a band's film (full width or not, with a primitive plane or not).
+    fn paste(&mut self, band: &Film) {
+        let r = band.region();
+        let image = band.image();
+        let ids = band.aov(Aov::Primitive);
+        for y in 0..r.height {
+            for x in 0..r.width {
+                let at = ((r.y + y) * self.frame.0 + r.x + x) as usize;
+                self.colour[at] = image.pixel(x, y);
+                if let Some(p) = ids {
+                    self.ids[at] = p.data[(y * r.width + x) as usize];
+                }
+            }
+        }
+    }
+
+    /// The picture so far, as a film of the whole frame.
+    fn film(&self) -> Film {
+        let (w, h) = self.frame;
+        let image = Image::from_pixels(w, h, self.colour.clone());
+        let mut film = Film::new(self.frame, Region::full(w, h), image);
+        film.set_aov(Aov::Primitive, self.ids.clone());
+        film
+    }
+}
 
 /// One version's render: what each of its stages needs.
 pub(crate) struct Version<'a> {
@@ -151,9 +226,11 @@ impl Version<'_> {
         }
     }
 
-    /// Renders the picture (of `size`) as [`Renderer::render_progressive`]
-    /// does, a coarse preview then the full image, publishing each; false
-    /// when cancelled or when it cannot be rendered (said on the page).
+    /// Renders the picture (of `size`): a coarse preview, then the full
+    /// image band by band (nearest the pointer's last row, or the middle,
+    /// first), the preview sharpening as bands arrive, then the whole,
+    /// publishing each; false when cancelled or when it cannot be rendered
+    /// (said on the page).
     fn picture(
         &self,
         renderer: &Arc<Renderer>,
@@ -161,13 +238,38 @@ impl Version<'_> {
         size: Option<(u32, u32)>,
         control: Control<'_>,
     ) -> bool {
-        let coarse = coarse_options(renderer, options);
-        let shown =
-            renderer.render_progressive(options, coarse.as_ref(), control, &mut |stage, film| {
-                self.publish(stage, film, renderer, size)
-            });
+        let shown = (|| {
+            let quiet = Control {
+                progress: None,
+                ..control
+            };
+            let coarse = match coarse_options(renderer, options) {
+                Some(c) => Some(renderer.render_with(&c, quiet)?.0),
+                None => None,
+            };
+            if let Some(film) = &coarse {
+                self.publish(Shown::Coarse, film, renderer, size);
+            }
+            let frame = renderer.frame_size(options)?;
+            let sharpening = Mutex::new(Sharpening::new(coarse.as_ref(), frame));
+            let last = Mutex::new(Instant::now());
+            let near = self.shared.focus_row();
+            let (film, _) = renderer.render_bands(options, near, control, &|band| {
+                let mut s = sharpening.lock().unwrap_or_else(|e| e.into_inner());
+                s.paste(band);
+                let mut at = last.lock().unwrap_or_else(|e| e.into_inner());
+                if at.elapsed() >= PROGRESS_EVERY && !self.cancelled() {
+                    *at = Instant::now();
+                    let film = s.film();
+                    drop(s);
+                    self.publish(Shown::Bands, &film, renderer, size);
+                }
+            })?;
+            self.publish(Shown::Final, &film, renderer, size);
+            Ok(())
+        })();
         match shown {
-            Ok(_) => true,
+            Ok(()) => true,
             Err(RenderError::Cancelled) => false,
             Err(e) => {
                 self.shared.update(|s| {
@@ -179,18 +281,19 @@ impl Version<'_> {
         }
     }
 
-    /// Publishes `film`, the picture's `stage` image rendered by `renderer`
+    /// Publishes `film`, the picture's `shown` image rendered by `renderer`
     /// and standing for an image of `size`, as the current picture.
     fn publish(
         &self,
-        stage: Stage,
+        shown: Shown,
         film: &Film,
         renderer: &Arc<Renderer>,
         size: Option<(u32, u32)>,
     ) {
-        let (name, next) = match stage {
-            Stage::Coarse => ("coarse", Phase::Final),
-            Stage::Final => ("final", Phase::Aovs),
+        let (name, next) = match shown {
+            Shown::Coarse => ("coarse", Phase::Final),
+            Shown::Bands => ("bands", Phase::Final),
+            Shown::Final => ("final", Phase::Aovs),
         };
         let id = self.shared.next_picture_id();
         let full = size.unwrap_or(film.frame_size());
@@ -200,7 +303,7 @@ impl Version<'_> {
         let picture = Arc::new(picture);
         let summary = picture.summary().to_string();
         self.shared.update(|s| {
-            if stage == Stage::Coarse {
+            if shown == Shown::Coarse {
                 s.aovs.clear();
                 s.compare = None;
             }
@@ -209,7 +312,9 @@ impl Version<'_> {
             s.good_version = Some(self.number);
             s.size = size;
             s.phase = next;
-            s.timings.push((name, self.ms()));
+            if shown != Shown::Bands {
+                s.timings.push((name, self.ms()));
+            }
         });
         self.shared.events.send("frame", &summary);
     }
