@@ -186,10 +186,13 @@ struct Reader<'p> {
     dialect: Option<Dialect>,
     /// Whether any block header was read.
     any_block: bool,
-    /// The first text outside a block, if any, and its first word.
+    /// The first text outside a block, if any.
     first_outside: Option<Site>,
-    /// The first word of the first text outside a block.
-    first_outside_word: String,
+    /// The first line outside a block that reads as a block's header (a
+    /// word, not a `key=`): a skipped block.
+    first_skipped: Option<Site>,
+    /// Its first word.
+    first_skipped_word: String,
 }
 
 impl<'p> Reader<'p> {
@@ -205,7 +208,8 @@ impl<'p> Reader<'p> {
             dialect,
             any_block: false,
             first_outside: None,
-            first_outside_word: String::new(),
+            first_skipped: None,
+            first_skipped_word: String::new(),
         }
     }
 
@@ -300,9 +304,11 @@ impl<'p> Reader<'p> {
                         closest(first.text, &HEADERS).map(|h| format!("did you mean `{h}`?"));
                     let last = line.words.last().unwrap_or(first);
                     let site = Site::span(i, first, last);
-                    if self.first_outside.is_none() {
-                        self.first_outside = Some(site);
-                        self.first_outside_word = first.text.chars().take(40).collect();
+                    self.first_outside.get_or_insert(site);
+                    // A would-be header (a word, not a `key=`): the block it opened was skipped.
+                    if self.first_skipped.is_none() && !first.text.contains('=') {
+                        self.first_skipped = Some(site);
+                        self.first_skipped_word = first.text.chars().take(40).collect();
                     }
                     // A binary file's "word" can be very long: quote its start.
                     let found: String = first.text.chars().take(40).collect();
@@ -377,10 +383,10 @@ impl<'p> Reader<'p> {
         if let (true, true, Some(site)) = (
             self.any_block,
             scene.objects().is_empty(),
-            self.first_outside,
+            self.first_skipped,
         ) {
             // Every primitive skipped: an error, never an empty picture.
-            let word = &self.first_outside_word;
+            let word = &self.first_skipped_word;
             let like = match word.to_ascii_lowercase().as_str() {
                 "obj" | "object" | "objects" | "shape" | "geometry" => {
                     format!("`{word}` reads like `primitive` (e.g. `primitive sphere`)")
