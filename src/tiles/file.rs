@@ -339,3 +339,63 @@ pub enum ReadError {
     #[error(transparent)]
     Tile(#[from] TileError),
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::{Renderer, Tile};
+    use crate::scene::Scene;
+
+    fn tile() -> TileFile {
+        let text = include_str!("../../tests/data/events.txt");
+        let renderer = Renderer::new(Scene::parse(text, ".").expect("the test's scene parses"));
+        let options = RenderOptions {
+            width: Some(12),
+            height: Some(70),
+            spp: Some(1),
+            aovs: vec![Aov::Normal, Aov::Primitive],
+            tile: Some(Tile { index: 1, count: 2 }),
+            ..RenderOptions::default()
+        };
+        let command = vec!["glint".to_string(), "render".to_string()];
+        TileFile::render(&renderer, &options, Control::default(), command)
+            .expect("renders")
+            .0
+    }
+
+    #[test]
+    fn a_tile_reads_back_as_written_and_any_damage_is_an_error_not_a_panic() {
+        let file = tile();
+        assert_eq!(
+            file.legend.values().map(|(k, _)| k.as_str()).next(),
+            Some("plane")
+        );
+        let bytes = file.encode();
+        assert_eq!(TileFile::decode(&bytes).as_ref(), Ok(&file));
+        // Every cut, and a changed byte at many places: an error each.
+        for n in (0..bytes.len()).step_by(7) {
+            assert!(TileFile::decode(&bytes[..n]).is_err(), "cut at {n}");
+        }
+        for at in (0..bytes.len()).step_by(5) {
+            let mut changed = bytes.clone();
+            changed[at] ^= 0x5a;
+            assert!(TileFile::decode(&changed).is_err(), "byte {at} changed");
+        }
+        // A header that lies, with a checksum that matches: refused, no
+        // allocation of what it claims.
+        let len = u64::from_le_bytes(bytes[12..20].try_into().expect("8 bytes")) as usize;
+        let header = std::str::from_utf8(&bytes[20..20 + len]).expect("a JSON header");
+        assert!(header.contains("[0,32,12,32]"), "{header}");
+        let lie = header.replace("[0,32,12,32]", "[0,32,12,4000000000]");
+        let mut forged = bytes[..12].to_vec();
+        forged.extend_from_slice(&(lie.len() as u64).to_le_bytes());
+        forged.extend_from_slice(lie.as_bytes());
+        forged.extend_from_slice(&bytes[20 + len..bytes.len() - 4]);
+        let crc = crc32fast::hash(&forged);
+        forged.extend_from_slice(&crc.to_le_bytes());
+        assert!(matches!(
+            TileFile::decode(&forged),
+            Err(TileError::Corrupt(_))
+        ));
+    }
+}
