@@ -49,21 +49,8 @@ fn write(dir: &Path, name: &str, text: &str) -> String {
     p.to_string_lossy().into_owned()
 }
 
-const SMALL: &str = "camera
-    image_W= 32
-    image_H= 24
-end
-light point
-    O= 0 0 5
-    color= 1 1 1
-end
-primitive sphere
-    O= 0 5 0
-    R= 1
-    color= 1 0 0
-    diff= 1
-end
-";
+/// A red ball under a point light, 32×24.
+const SMALL: &str = include_str!("data/small.txt");
 
 #[test]
 fn render_writes_the_image_and_a_summary() {

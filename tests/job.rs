@@ -43,21 +43,8 @@ const FAKE_PARALLEL: &str = r#"#!/bin/bash
 printf '%s\n' "$@" > "$GLINT_TEST_LOG/parallel"
 "#;
 
-const SCENE: &str = "camera
-    image_W= 32
-    image_H= 24
-end
-light point
-    O= 0 0 5
-    color= 1 1 1
-end
-primitive sphere
-    O= 0 5 0
-    R= 1
-    color= 1 0 0
-    diff= 1
-end
-";
+/// A red ball under a point light, 32×24.
+const SCENE: &str = include_str!("data/small.txt");
 
 fn setup() -> Setup {
     let root = tempfile::Builder::new()
