@@ -49,6 +49,18 @@ pub(crate) enum Emitter {
     Normalised,
 }
 
+/// How a photon meeting a diffuse surface is bounced diffusely.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum PhotonBounce {
+    /// With probability diff·P(k), k the textured colour, its power times
+    /// k/P(k) (`photon-mapping.md`, Tracing).
+    Textured,
+    /// Z14's: with probability (diff + spec)·P(color), its power times
+    /// color/P(color): the texture does not tint photons (Z14
+    /// `photontracer.cpp` `PhotonDiffusion`).
+    Untextured,
+}
+
 /// Which pixels get more camera rays, and which.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum AntiAlias {
@@ -101,6 +113,12 @@ pub(crate) struct Model {
     pub texture_replaces: bool,
     /// What an emitter's surface shows.
     pub emitter: Emitter,
+    /// Whether a ray that meets nothing shows the background (the
+    /// framework); the relatives' rays show black there, their background
+    /// being only the ambient term (Z14, PM3, V, W `RayTracing`).
+    pub background_seen: bool,
+    /// A photon's diffuse bounce.
+    pub photon_bounce: PhotonBounce,
     /// Whether reflection and refraction rays are traced (V's `algorithm= RC` traces none).
     pub secondary: bool,
     /// Anti-aliasing.
@@ -136,6 +154,8 @@ impl Model {
             unit_index_fallback: true,
             texture_replaces: false,
             emitter: Emitter::Clamped,
+            background_seen: true,
+            photon_bounce: PhotonBounce::Textured,
             secondary: true,
             anti_alias: AntiAlias::Grid7,
             lens: Lens::Framework,
@@ -147,12 +167,14 @@ impl Model {
             lit_by_specular: false,
             glossy: Glossy::Disk,
             clamp_every_ray: false,
+            background_seen: false,
             ..f
         };
         match d {
             Dialect::F => f,
             Dialect::Z14 => Model {
                 direct: Direct::Falloff { specular: false },
+                photon_bounce: PhotonBounce::Untextured,
                 anti_alias: AntiAlias::None,
                 ..lineage
             },
@@ -173,6 +195,7 @@ impl Model {
                 glossy: Glossy::Mirror,
                 max_depth: 5,
                 texture_replaces: true,
+                background_seen: false,
                 anti_alias: AntiAlias::None,
                 lens: Lens::Corner,
                 ..f

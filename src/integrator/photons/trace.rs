@@ -8,12 +8,12 @@ use super::plan::{Plan, Term};
 use super::units::{MAX_PHOTON_HITS, power};
 use crate::geometry::perpendiculars;
 use crate::geometry::{Ray, offset_origin};
-use crate::integrator::SceneAccel;
 use crate::integrator::model::{Glossy, Inside, Model};
 use crate::integrator::observer::mix;
 use crate::integrator::optics::{
     cosine_direction, disk_direction, glossy_direction, reflect, refract, sphere_direction,
 };
+use crate::integrator::{PhotonBounce, SceneAccel};
 use crate::scene::{Light, LightKind, Scene};
 use glam::DVec3;
 use rand::{Rng, SeedableRng};
@@ -202,7 +202,13 @@ impl Tracer<'_> {
             } else {
                 (-surface.normal, -surface.shading_normal)
             };
-            let k = self.model.albedo(&m, self.scene.textures(), surface.uv);
+            let (k, diffuse) = match self.model.photon_bounce {
+                PhotonBounce::Textured => (
+                    self.model.albedo(&m, self.scene.textures(), surface.uv),
+                    m.diff,
+                ),
+                PhotonBounce::Untextured => (m.color, m.diff + m.spec),
+            };
             let within = match self.model.inside {
                 Inside::FrontFace => !front,
                 Inside::Parity => inside,
@@ -227,7 +233,7 @@ impl Tracer<'_> {
                 (0.0, 0.0)
             };
             let mut p = [
-                m.diff * power(k),
+                diffuse * power(k),
                 refl * power(m.color),
                 refr * power(transmit),
             ];

@@ -190,6 +190,9 @@ impl<'a> Whitted<'a> {
         let scene = self.scene;
         let model = &self.model;
         let Some((index, hit)) = found else {
+            if !model.background_seen {
+                return DVec3::ZERO;
+            }
             return self.clamp(scene.background().color(ray.dir), at.depth);
         };
         let object = &self.accel.objects()[index as usize];
