@@ -21,17 +21,20 @@ pub(crate) enum Kind {
     Num,
     /// One whole number ≥ 0.
     Count,
-    /// Two numbers.
-    Vec2,
     /// Three numbers.
     Vec3,
     /// One number (used for all three) or three.
     OneOrThree,
+    /// Two numbers or three (a bezier's `P=`: the framework's `z r`,
+    /// lazycal's base point).
+    TwoOrThree,
+    /// Any count of numbers, at least one (lazycal's `control_points=`).
+    List,
     /// The rest of the line (a file name, a blur name).
     Text,
 }
 
-pub(crate) use Kind::{Count, Num, OneOrThree, Text, Vec2, Vec3};
+pub(crate) use Kind::{Count, List, Num, OneOrThree, Text, TwoOrThree, Vec3};
 
 /// One `key= values` line of a block, as read.
 #[derive(Clone, Debug)]
@@ -54,6 +57,7 @@ pub(crate) enum Value {
     Num(f64),
     V2(DVec2),
     V3(DVec3),
+    List(Vec<f64>),
     Text(String),
 }
 
@@ -174,9 +178,10 @@ fn describe(name: &str, kind: Kind) -> &'static str {
     match kind {
         Num => "a number",
         Count => "a whole number",
-        Vec2 => "2 numbers (z r)",
         Vec3 => "3 numbers",
         OneOrThree => "1 or 3 numbers",
+        TwoOrThree => "2 numbers (z r) or 3 (x y z)",
+        List => "numbers",
         Text if name == "blur" => "a blur name (`exp`)",
         Text => "a file name",
     }
@@ -221,12 +226,29 @@ pub(crate) fn parse_entry(
         });
     }
     let n = values.len();
+    if kind == List {
+        let mut list = Vec::with_capacity(n);
+        for w in values {
+            match parse_number(w.text) {
+                Ok(x) => list.push(x),
+                Err(err) => {
+                    number_error(e.key, w, err, line, diags);
+                    return None;
+                }
+            }
+        }
+        return Some(Field {
+            name,
+            value: Value::List(list),
+            site,
+        });
+    }
     let counts: &[usize] = match kind {
         Num | Count => &[1],
-        Vec2 => &[2],
         Vec3 => &[3],
         OneOrThree => &[1, 3],
-        Text => &[],
+        TwoOrThree => &[2, 3],
+        Text | List => &[],
     };
     let max = counts.iter().copied().max().unwrap_or(1);
     // The lineages' readers take the values they need and drop the rest.
@@ -250,16 +272,7 @@ pub(crate) fn parse_entry(
             }
             Err(err) => {
                 ok = false;
-                let message = match err {
-                    NumberError::Malformed => {
-                        format!("expected a number after `{}=`, found `{}`", e.key, w.text)
-                    }
-                    NumberError::NotFinite => format!("`{}` is not a finite number", w.text),
-                    NumberError::TooLarge => {
-                        format!("`{}` is too large (numbers must lie within ±1e100)", w.text)
-                    }
-                };
-                diags.error(Site::word(line, w), message, None);
+                number_error(e.key, w, err, line, diags);
             }
         }
     }
@@ -310,13 +323,27 @@ pub(crate) fn parse_entry(
             }
             Value::Num(x)
         }
-        Vec2 => Value::V2(DVec2::new(numbers[0], numbers[1])),
         Vec3 => Value::V3(DVec3::new(numbers[0], numbers[1], numbers[2])),
         OneOrThree if n == 1 => Value::V3(DVec3::splat(numbers[0])),
-        OneOrThree => Value::V3(DVec3::new(numbers[0], numbers[1], numbers[2])),
-        Text => return None,
+        OneOrThree | TwoOrThree if n == 3 => {
+            Value::V3(DVec3::new(numbers[0], numbers[1], numbers[2]))
+        }
+        TwoOrThree => Value::V2(DVec2::new(numbers[0], numbers[1])),
+        OneOrThree | Text | List => return None,
     };
     Some(Field { name, value, site })
+}
+
+/// Reports word `w` after `key=`, which is not a usable number.
+fn number_error(key: &str, w: &Word<'_>, err: NumberError, line: usize, diags: &mut Diags) {
+    let message = match err {
+        NumberError::Malformed => format!("expected a number after `{key}=`, found `{}`", w.text),
+        NumberError::NotFinite => format!("`{}` is not a finite number", w.text),
+        NumberError::TooLarge => {
+            format!("`{}` is too large (numbers must lie within ±1e100)", w.text)
+        }
+    };
+    diags.error(Site::word(line, w), message, None);
 }
 /// What C++'s `>>` into an integer reads of `text`: its leading sign and
 /// digits (0 when there are none).

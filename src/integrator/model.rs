@@ -17,6 +17,25 @@ pub(crate) enum Direct {
         /// Whether the eye-hit specular spec·(R_I·L)^50 is added.
         specular: bool,
     },
+    /// lazycal's: the share of a fixed (2q+1)² grid of points over the
+    /// light (q = `half`) that the point sees, times the light's colour over
+    /// its mean; diffuse L·N and Blinn's specular (H·N)^50, L towards the
+    /// light's centre (`lineages.md`, L17).
+    Grid {
+        /// q: the grid's points lie at i/q, j/q of the light's half-edges.
+        half: u32,
+    },
+}
+
+/// Which hits get the ambient term k·background.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Ambient {
+    /// None (the framework).
+    None,
+    /// diff·k·background at a lit hit (the relatives).
+    Diffuse,
+    /// k·background at every hit, whatever its material (lazycal).
+    Every,
 }
 
 /// How glossy reflections are sampled.
@@ -66,6 +85,9 @@ pub(crate) enum PhotonBounce {
 pub(crate) enum AntiAlias {
     /// The framework's 7×7 grid where the hash differs from a neighbour's.
     Grid7,
+    /// A 3×3 grid (rays ⅓ px apart) there: the framework's 2015 ancestor,
+    /// abcbdf's and lazycal's.
+    Grid3,
     /// PM3's and V's: (c + the four rays ⅓ px away along each axis) / 5
     /// where the hash differs from a neighbour's.
     Cross5,
@@ -89,8 +111,8 @@ pub(crate) enum Lens {
 pub(crate) struct Model {
     /// How direct light is computed.
     pub direct: Direct,
-    /// Whether diff·k·background is added at a diffuse hit.
-    pub ambient: bool,
+    /// Where k·background is added.
+    pub ambient: Ambient,
     /// Whether a specular-only material gets the light term (else only diff > 0 does).
     pub lit_by_specular: bool,
     /// The light term counts where L·N exceeds this (framework: 0; W: 10⁻⁶).
@@ -109,6 +131,9 @@ pub(crate) struct Model {
     /// its NaN); else the index is used as written (the lineages: light
     /// entering takes the total-internal-reflection path, §7.8).
     pub unit_index_fallback: bool,
+    /// Whether a reflected ray is weighted by the colour × `refl=` (else
+    /// by `refl=` alone: lazycal's ray tracer).
+    pub tinted_reflection: bool,
     /// Whether a texture replaces the colour (else multiplies it).
     pub texture_replaces: bool,
     /// What an emitter's surface shows.
@@ -143,7 +168,7 @@ impl Model {
         let dq = camera.drefl_quality.max(1);
         let f = Model {
             direct: Direct::Centre,
-            ambient: false,
+            ambient: Ambient::None,
             lit_by_specular: true,
             min_dot: 0.0,
             glossy: Glossy::Exp,
@@ -152,6 +177,7 @@ impl Model {
             max_depth: 10,
             inside: Inside::FrontFace,
             unit_index_fallback: true,
+            tinted_reflection: true,
             texture_replaces: false,
             emitter: Emitter::Clamped,
             background_seen: true,
@@ -163,7 +189,7 @@ impl Model {
         let lineage = Model {
             unit_index_fallback: false,
             direct: Direct::Falloff { specular: true },
-            ambient: true,
+            ambient: Ambient::Diffuse,
             lit_by_specular: false,
             glossy: Glossy::Disk,
             clamp_every_ray: false,
@@ -190,7 +216,7 @@ impl Model {
             },
             Dialect::W => Model {
                 unit_index_fallback: false,
-                ambient: true,
+                ambient: Ambient::Diffuse,
                 min_dot: 1e-6,
                 glossy: Glossy::Mirror,
                 max_depth: 5,
@@ -198,6 +224,29 @@ impl Model {
                 background_seen: false,
                 anti_alias: AntiAlias::None,
                 lens: Lens::Corner,
+                ..f
+            },
+            // The framework's ancestor (2015): W's light with the 2014
+            // engine's glossy disk and a 3×3 anti-aliasing grid.
+            Dialect::A18 => Model {
+                unit_index_fallback: false,
+                ambient: Ambient::Diffuse,
+                min_dot: 1e-6,
+                glossy: Glossy::Disk,
+                anti_alias: AntiAlias::Grid3,
+                ..f
+            },
+            Dialect::L17 => Model {
+                direct: Direct::Grid { half: 4 },
+                ambient: Ambient::Every,
+                glossy: Glossy::Mirror,
+                clamp_every_ray: false,
+                max_depth: 20,
+                inside: Inside::Parity,
+                unit_index_fallback: false,
+                tinted_reflection: false,
+                texture_replaces: true,
+                anti_alias: AntiAlias::Grid3,
                 ..f
             },
         }

@@ -19,19 +19,28 @@ pub enum Dialect {
     /// wangxr14/raytrace: the framework's model with ambient light, a
     /// mirrored camera and `object` blocks.
     W,
+    /// abcbdf/photon_mapping-bezier: the framework's ray tracer with ambient
+    /// light, `obj` blocks and a cubic Bézier profile of 3-D points.
+    A18,
+    /// lazycal/Progressive-Photon-Mapping: progressive photon mapping whose
+    /// picture is the photon estimate alone; Béziers by axis, scale and
+    /// control points.
+    L17,
 }
 
 impl Dialect {
     /// Every dialect, in the order of the lineage table.
-    pub const ALL: [Dialect; 5] = [
+    pub const ALL: [Dialect; 7] = [
         Dialect::F,
         Dialect::Z14,
         Dialect::Pm3,
         Dialect::V,
         Dialect::W,
+        Dialect::A18,
+        Dialect::L17,
     ];
 
-    /// Its short name (`f`, `z14`, `pm3`, `v`, `w`).
+    /// Its short name (`f`, `z14`, `pm3`, `v`, `w`, `a18`, `l17`).
     pub fn name(self) -> &'static str {
         match self {
             Dialect::F => "f",
@@ -39,6 +48,8 @@ impl Dialect {
             Dialect::Pm3 => "pm3",
             Dialect::V => "v",
             Dialect::W => "w",
+            Dialect::A18 => "a18",
+            Dialect::L17 => "l17",
         }
     }
 
@@ -50,6 +61,8 @@ impl Dialect {
             Dialect::Pm3 => &[],
             Dialect::V => &["raytracing-ppm-normalmap"],
             Dialect::W => &["raytrace"],
+            Dialect::A18 => &["abcbdf", "photon_mapping-bezier"],
+            Dialect::L17 => &["lazycal", "progressive-photon-mapping"],
         }
     }
 

@@ -66,6 +66,17 @@ use super::{Aabb, axis_frame};
 use glam::{DVec2, DVec3};
 use pieces::{Pieces, min_max};
 
+/// How a hit's texture coordinates are read off the surface.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum BezierUv {
+    /// The spec's: u = the curve parameter s, v = the point's angle / 2π.
+    #[default]
+    Spec,
+    /// lazycal's: u = the profile point's angle / 2π (half a turn more
+    /// where its radius is negative), v = s.
+    Lazycal,
+}
+
 /// The surface swept by rotating a Bézier profile (z along the axis from
 /// `o1`, r the radius) about the axis `o1` → `o2`.
 #[derive(Clone, Debug, PartialEq)]
@@ -81,6 +92,8 @@ pub struct Bezier {
     /// Texture frame around the axis.
     e1: DVec3,
     e2: DVec3,
+    /// How texture coordinates are read.
+    uv: BezierUv,
     /// Profile coefficients on the whole curve (degree + 1 each).
     z: Vec<f64>,
     r: Vec<f64>,
@@ -115,6 +128,7 @@ impl Bezier {
             axis,
             e1,
             e2,
+            uv: BezierUv::Spec,
             z: Vec::new(),
             r: Vec::new(),
             center: o1,
@@ -145,6 +159,12 @@ impl Bezier {
     /// counter-clockwise about +z from +x.
     pub fn with_angle_frame(mut self, e1: DVec3, e2: DVec3) -> Self {
         (self.e1, self.e2) = (e1, e2);
+        self
+    }
+
+    /// The same surface with its texture coordinates read as `uv` says.
+    pub fn with_uv(mut self, uv: BezierUv) -> Self {
+        self.uv = uv;
         self
     }
 

@@ -1,5 +1,6 @@
 //! Photon tracing (`photon-mapping.md`, Units, Emission, Tracing): each
-//! light's share of the photons leaves it with power 4π·c/n, bounces by
+//! light's share of the photons leaves it with power 4π·c/n (lazycal's:
+//! c/n, [`Term::photon_power`]), bounces by
 //! Russian roulette and is stored at diffuse hits. Photon j of pass i draws
 //! from its own stream keyed by (seed, i, j), so a pass is the same
 //! whatever the threads.
@@ -19,7 +20,6 @@ use glam::DVec3;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
 use rayon::prelude::*;
-use std::f64::consts::PI;
 
 /// Photons traced per task: fixed, so the tasks (and the order their
 /// photons are joined in) do not depend on the threads.
@@ -161,7 +161,7 @@ impl Tracer<'_> {
     fn trace(&self, l: usize, n: u64, rng: &mut Pcg32, out: &mut Vec<Photon>) -> u64 {
         let light = &self.scene.lights()[l];
         let (origin, dir) = emit(light, rng);
-        let mut flux = light.color * (4.0 * PI / n as f64);
+        let mut flux = self.plan.term.photon_power(light.color, n);
         let mut ray = Ray::new(origin, dir);
         let (mut bounces, mut inside, mut hits) = (0u32, false, 0u32);
         // A light's own surface is passed through: a few times at most.
@@ -281,7 +281,7 @@ impl Tracer<'_> {
     /// bounces is stored.
     fn stores(&self, hits: u32, bounces: u32) -> bool {
         match self.plan.term {
-            Term::Replace => true,
+            Term::Replace | Term::Only => true,
             Term::Add { caustics: true } => bounces > 0,
             Term::Add { caustics: false } => hits > 1,
         }

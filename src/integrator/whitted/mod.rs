@@ -18,7 +18,7 @@ mod reflected;
 mod refracted;
 mod surface;
 
-use super::model::Model;
+use super::model::{Ambient, Model};
 use super::observer::{PathObserver, RayKind, SurfaceSeen};
 use super::path::{PathState, SceneAccel};
 use super::photons::PhotonMap;
@@ -210,9 +210,13 @@ impl<'a> Whitted<'a> {
             material: m,
         });
         let mut color = DVec3::ZERO;
-        if m.diff > 0.0 || (m.spec > 0.0 && model.lit_by_specular) {
+        let lit = m.diff > 0.0 || (m.spec > 0.0 && model.lit_by_specular);
+        if model.ambient == Ambient::Every {
+            color += model.albedo(m, scene.textures(), p.uv) * scene.background().ambient();
+        }
+        if lit {
             let k = model.albedo(m, scene.textures(), p.uv);
-            if model.ambient {
+            if model.ambient == Ambient::Diffuse {
                 color += k * m.diff * scene.background().ambient();
             }
             self.direct(ray, &p, k, &mut color, cx);
