@@ -60,12 +60,20 @@ PAIRS = [
     Pair("f5", "kevinpruvost+Ray_Tracing", "src/scene5.txt", "screenshots/Raytracer_output5.bmp", (),
          ((b"texture= src/estuary.bmp", b""),),
          "src/estuary.bmp is not in the repository: no texture stands in"),
+    Pair("l17-rt", "lazycal+Progressive-Photon-Mapping", "scenes/scene_bowling.txt",
+         "scenes/bowling_rt_noresampled.bmp", ("--photons", "off"), (),
+         "lazycal's ray-traced picture before its anti-aliasing (glint's is anti-aliased)", "scenes"),
+    Pair("l17-1", "lazycal+Progressive-Photon-Mapping", "scenes/scene_bowling.txt",
+         "scenes/bowling-1.bmp", ("--iterations", "1"), (),
+         "the photon estimate after lazycal's first pass of 10^6 photons", "scenes"),
 ]
 
 # Pictures that cannot be compared, and why.
 NOT_COMPARABLE = [
     ("f-cuda", "kevinpruvost+CUDA_RayTracing", "CUDA_RayTracing/resources/screenshot*.jpg",
      "JPEG screenshots of the GPU port's window, lossy (lineage spec §6)"),
+    ("a18", "abcbdf+photon_mapping-bezier", "74b1OOOPICad.jpg",
+     "a 650x430 JPEG, lossy, of no file of the repository (its scene_1.txt is 128x76)"),
 ]
 
 
