@@ -4,23 +4,16 @@
 //! tetrahedron, `obj` blocks, and lazycal's reader (it stops at a word `end`
 //! outside a block and keeps its last light).
 
+use super::warnings;
 use crate::Scene;
 use crate::geometry::{Ray, Shape};
-use crate::scene::{Dialect, Severity};
+use crate::scene::Dialect;
 use glam::{DVec2, DVec3};
 use std::path::Path;
 
 fn ok(text: &str) -> Scene {
     Scene::parse(text, Path::new("."))
         .unwrap_or_else(|e| panic!("expected the scene to parse:\n{e}")) // invariant: the test's own fixed input (a failure fails the test)
-}
-
-fn warnings(s: &Scene) -> Vec<String> {
-    s.warnings()
-        .iter()
-        .filter(|d| d.severity == Severity::Warning)
-        .map(|d| d.message.clone())
-        .collect()
 }
 
 fn errors(text: &str) -> Vec<String> {

@@ -4,9 +4,10 @@
 //! profile on the `bezier` surface, the rectangle), the errors naming the
 //! missing files, and the blocks skipped with a warning.
 
+use super::warnings;
 use crate::Scene;
 use crate::geometry::{Hit, Ray, Shape, Sphere, SurfacePoint, Triangle};
-use crate::scene::{Diagnostic, SceneError, Severity};
+use crate::scene::{Diagnostic, SceneError};
 use glam::{DVec2, DVec3};
 use std::path::Path;
 
@@ -31,14 +32,6 @@ fn errors_in(dir: &Path, text: &str) -> Vec<Diagnostic> {
         Ok(s) => panic!("expected errors, got a scene with {:?}", s.warnings()), // invariant: the test's own fixed input (a failure fails the test)
         Err(e) => e.errors().cloned().collect(),
     }
-}
-
-fn warnings(s: &Scene) -> Vec<String> {
-    s.warnings()
-        .iter()
-        .filter(|d| d.severity == Severity::Warning)
-        .map(|d| d.message.clone())
-        .collect()
 }
 
 fn close(a: DVec3, b: DVec3) -> bool {

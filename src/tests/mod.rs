@@ -15,3 +15,15 @@ mod lights;
 mod lineages;
 mod parser;
 mod photons;
+
+use crate::Scene;
+use crate::scene::Severity;
+
+/// The messages of a scene's warnings (notes left out).
+fn warnings(s: &Scene) -> Vec<String> {
+    s.warnings()
+        .iter()
+        .filter(|d| d.severity == Severity::Warning)
+        .map(|d| d.message.clone())
+        .collect()
+}
