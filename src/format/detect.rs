@@ -17,6 +17,8 @@ const RESTING: f64 = 0.01;
 /// What the file shows of its lineage, as read so far (lines 0-based).
 #[derive(Debug, Default)]
 pub(crate) struct Evidence {
+    /// The first key written `key:` (the colon family's blocks).
+    colon: Option<usize>,
     /// An `object` header (W's blocks).
     object: Option<usize>,
     /// A camera `Dx=` (W's camera).
@@ -98,6 +100,11 @@ impl Evidence {
         }
     }
 
+    /// A block whose keys are written `key:`, the first at `line`.
+    pub fn colon(&mut self, line: usize) {
+        self.colon.get_or_insert(line);
+    }
+
     fn f_mark(&mut self, line: usize, what: String) {
         self.f_marker.get_or_insert((line, what));
     }
@@ -158,6 +165,15 @@ impl Evidence {
                 None,
             )
         };
+        if let Some(l) = self.colon {
+            return choice(
+                Dialect::Colon,
+                format!(
+                    "keys written `key:` (hta1996/Raytracing's reader) {}",
+                    at(l)
+                ),
+            );
+        }
         if let Some(l) = self.object {
             return choice(Dialect::W, format!("an `object` block {}", at(l)));
         }
@@ -230,11 +246,15 @@ impl Evidence {
     /// Gives the camera keys the file leaves unset dialect `d`'s defaults.
     fn camera_defaults(&self, d: Dialect, cam: &mut Camera) {
         let unset = |k: &str| !self.camera_keys.contains(&k);
+        if d == Dialect::Colon {
+            colon_photons(cam);
+            return;
+        }
         if !matches!(d, Dialect::Pm3 | Dialect::V) {
             return;
         }
         if unset("drefl_quality") {
-            cam.drefl_quality = 20;
+            cam.drefl_quality = 20.0;
         }
         let p = &mut cam.photons;
         for (key, slot, value) in [
@@ -270,13 +290,13 @@ impl Evidence {
             for shape in scene.shapes_mut() {
                 if let Shape::Plane(p) = shape {
                     p.offset = -p.offset;
-                    p.uv_shift = 0.5;
+                    p.uv_shift = glam::DVec2::splat(0.5);
                 }
             }
         }
         let (divisor, flipped) = match d {
             Dialect::F | Dialect::Z14 => (256.0, false),
-            Dialect::Pm3 | Dialect::V => (255.0, false),
+            Dialect::Pm3 | Dialect::V | Dialect::Colon => (255.0, false),
             Dialect::W => (255.0, true),
         };
         for t in scene.textures_mut() {
@@ -286,4 +306,17 @@ impl Evidence {
             }
         }
     }
+}
+
+/// The colon family's progressive photon mapping, fixed in its program
+/// (hta1996/Raytracing `const.h`): a million photons a round, every hit
+/// point's first radius² 0.2, α = 2/3, 15000 rounds; it stores every
+/// photon's every hit (at most 10 each: glint's cap is that).
+fn colon_photons(cam: &mut Camera) {
+    let p = &mut cam.photons;
+    p.emit_photons = 1_000_000;
+    p.max_photons = 10_000_000;
+    p.sample_dist = 0.2f64.sqrt();
+    p.iterations = Some(15_000);
+    p.reduction = Some(2.0 / 3.0);
 }

@@ -12,6 +12,7 @@
 mod assets;
 mod block_keys;
 mod builder;
+mod colon;
 mod detect;
 mod diags;
 mod lexer;

@@ -29,9 +29,12 @@ pub(crate) enum Kind {
     OneOrThree,
     /// The rest of the line (a file name, a blur name).
     Text,
+    /// Every number on the line, at least one (the colon family's `curve:`
+    /// and `ratio:`).
+    List,
 }
 
-pub(crate) use Kind::{Count, Num, OneOrThree, Text, Vec2, Vec3};
+pub(crate) use Kind::{Count, List, Num, OneOrThree, Text, Vec2, Vec3};
 
 /// One `key= values` line of a block, as read.
 #[derive(Clone, Debug)]
@@ -46,6 +49,16 @@ pub(crate) struct Entry<'a> {
     pub line: usize,
     /// The line's text (for values that are the rest of the line).
     pub raw: &'a str,
+    /// Whether it was written `key: values` (the colon family), its numbers
+    /// then read as C++'s `>>` reads them.
+    pub colon: bool,
+}
+
+impl Entry<'_> {
+    /// The key as written, with its `=` or `:`.
+    pub fn written(&self) -> String {
+        format!("{}{}", self.key, if self.colon { ':' } else { '=' })
+    }
 }
 
 /// A parsed value.
@@ -55,6 +68,7 @@ pub(crate) enum Value {
     V2(DVec2),
     V3(DVec3),
     Text(String),
+    List(Vec<f64>),
 }
 
 /// A key with its parsed value and where it was.
@@ -169,6 +183,64 @@ pub(crate) fn parse_number(s: &str) -> Result<f64, NumberError> {
     Ok(x)
 }
 
+/// The length in bytes of the longest prefix of `s` that C++'s `>>` into a
+/// double reads as a number (0 when none): `2.5.0` reads `2.5`, then `.0`.
+pub(crate) fn number_prefix(s: &str) -> usize {
+    let b = s.as_bytes();
+    let mut i = usize::from(matches!(b.first(), Some(b'+' | b'-')));
+    let digits = |i: &mut usize| {
+        let start = *i;
+        while b.get(*i).is_some_and(u8::is_ascii_digit) {
+            *i += 1;
+        }
+        *i - start
+    };
+    let mut mantissa = digits(&mut i);
+    if b.get(i) == Some(&b'.') {
+        i += 1;
+        mantissa += digits(&mut i);
+    }
+    if mantissa == 0 {
+        return 0;
+    }
+    let end = i;
+    if matches!(b.get(i), Some(b'e' | b'E')) {
+        i += 1;
+        if matches!(b.get(i), Some(b'+' | b'-')) {
+            i += 1;
+        }
+        if digits(&mut i) > 0 {
+            return i;
+        }
+    }
+    end
+}
+
+/// The words of a `key:` line as the colon family's reader takes them: a
+/// word holding several numbers (`2.5.000000`) is as many values, as C++'s
+/// `>>` reads them (a word that starts with no number stays whole).
+fn stream_words<'a>(values: &[Word<'a>]) -> Vec<Word<'a>> {
+    let mut out = Vec::with_capacity(values.len());
+    for w in values {
+        let mut rest = *w;
+        loop {
+            let n = number_prefix(rest.text);
+            if n == 0 || n == rest.text.len() {
+                out.push(rest);
+                break;
+            }
+            let chars = rest.text[..n].chars().count();
+            out.push(Word {
+                text: &rest.text[..n],
+                len: chars,
+                ..rest
+            });
+            rest = rest.split_off(chars);
+        }
+    }
+    out
+}
+
 /// What a kind of value looks like, for messages.
 fn describe(name: &str, kind: Kind) -> &'static str {
     match kind {
@@ -179,6 +251,7 @@ fn describe(name: &str, kind: Kind) -> &'static str {
         OneOrThree => "1 or 3 numbers",
         Text if name == "blur" => "a blur name (`exp`)",
         Text => "a file name",
+        List => "numbers",
     }
 }
 
@@ -191,6 +264,26 @@ pub(crate) fn parse_entry(
     diags: &mut Diags,
 ) -> Option<Field> {
     let values = values.get(e.values.clone()).unwrap_or_default();
+    let split;
+    let values = if e.colon && kind != Text {
+        split = stream_words(values);
+        if split.len() != values.len() {
+            let (first, last) = (&values[0], &values[values.len() - 1]);
+            diags.warn(
+                Site::span(e.line, first, last),
+                format!(
+                    "`{}` holds numbers run together: read as {}, as its reader's `>>` reads them",
+                    e.written(),
+                    split.iter().map(|w| w.text).collect::<Vec<_>>().join(" ")
+                ),
+                None,
+            );
+        }
+        &split[..]
+    } else {
+        values
+    };
+    let key = e.written();
     let line = e.line;
     let site = match values.last() {
         Some(last) => Site {
@@ -204,7 +297,7 @@ pub(crate) fn parse_entry(
     let (Some(first), Some(last)) = (values.first(), values.last()) else {
         diags.error(
             e.key_site,
-            format!("`{}=` expects {what}, found nothing", e.key),
+            format!("`{key}` expects {what}, found nothing"),
             None,
         );
         return None;
@@ -221,12 +314,19 @@ pub(crate) fn parse_entry(
         });
     }
     let n = values.len();
+    if kind == List {
+        return list(&key, values, line, diags).map(|v| Field {
+            name,
+            value: Value::List(v),
+            site,
+        });
+    }
     let counts: &[usize] = match kind {
         Num | Count => &[1],
         Vec2 => &[2],
         Vec3 => &[3],
         OneOrThree => &[1, 3],
-        Text => &[],
+        Text | List => &[],
     };
     let max = counts.iter().copied().max().unwrap_or(1);
     // The lineages' readers take the values they need and drop the rest.
@@ -234,7 +334,7 @@ pub(crate) fn parse_entry(
         let extra = &values[max];
         diags.warn(
             Site::span(line, extra, last),
-            format!("`{}=` takes {what}, found {n}: the rest is ignored", e.key),
+            format!("`{key}` takes {what}, found {n}: the rest is ignored"),
             None,
         );
     }
@@ -242,25 +342,13 @@ pub(crate) fn parse_entry(
     let mut numbers = [0.0; 3];
     let mut ok = true;
     for (k, w) in values.iter().take(max).enumerate() {
-        match parse_number(w.text) {
-            Ok(x) => {
+        match number(&key, w, line, diags) {
+            Some(x) => {
                 if let Some(slot) = numbers.get_mut(k) {
                     *slot = x;
                 }
             }
-            Err(err) => {
-                ok = false;
-                let message = match err {
-                    NumberError::Malformed => {
-                        format!("expected a number after `{}=`, found `{}`", e.key, w.text)
-                    }
-                    NumberError::NotFinite => format!("`{}` is not a finite number", w.text),
-                    NumberError::TooLarge => {
-                        format!("`{}` is too large (numbers must lie within ±1e100)", w.text)
-                    }
-                };
-                diags.error(Site::word(line, w), message, None);
-            }
+            None => ok = false,
         }
     }
     if !ok {
@@ -273,10 +361,7 @@ pub(crate) fn parse_entry(
     } else {
         diags.warn(
             site,
-            format!(
-                "`{}=` takes {what}, found {n}: the missing ones read as 0",
-                e.key
-            ),
+            format!("`{key}` takes {what}, found {n}: the missing ones read as 0"),
             None,
         );
         counts.iter().copied().find(|&c| c > n).unwrap_or(max)
@@ -288,7 +373,7 @@ pub(crate) fn parse_entry(
             if x < 0.0 {
                 diags.error(
                     Site::word(line, first),
-                    format!("`{}=` must not be negative, found {x}", e.key),
+                    format!("`{key}` must not be negative, found {x}"),
                     None,
                 );
                 return None;
@@ -301,11 +386,11 @@ pub(crate) fn parse_entry(
                 diags.warn(
                     Site::word(line, first),
                     format!(
-                        "`{}= {}` is read as {x}; the lineages' readers read {theirs} \
+                        "`{key} {}` is read as {x}; the lineages' readers read {theirs} \
                          (they stop at the first character that is not a digit)",
-                        e.key, first.text
+                        first.text
                     ),
-                    Some(format!("write `{}= {x}`", e.key)),
+                    Some(format!("write `{key} {x}`")),
                 );
             }
             Value::Num(x)
@@ -314,9 +399,42 @@ pub(crate) fn parse_entry(
         Vec3 => Value::V3(DVec3::new(numbers[0], numbers[1], numbers[2])),
         OneOrThree if n == 1 => Value::V3(DVec3::splat(numbers[0])),
         OneOrThree => Value::V3(DVec3::new(numbers[0], numbers[1], numbers[2])),
-        Text => return None,
+        Text | List => return None,
     };
     Some(Field { name, value, site })
+}
+
+/// One number of key `key`'s values (the word `w` on line `line`), or the error.
+fn number(key: &str, w: &Word<'_>, line: usize, diags: &mut Diags) -> Option<f64> {
+    match parse_number(w.text) {
+        Ok(x) => Some(x),
+        Err(err) => {
+            let message = match err {
+                NumberError::Malformed => {
+                    format!("expected a number after `{key}`, found `{}`", w.text)
+                }
+                NumberError::NotFinite => format!("`{}` is not a finite number", w.text),
+                NumberError::TooLarge => {
+                    format!("`{}` is too large (numbers must lie within ±1e100)", w.text)
+                }
+            };
+            diags.error(Site::word(line, w), message, None);
+            None
+        }
+    }
+}
+
+/// Every number of a [`List`] key's values, or `None` after an error.
+fn list(key: &str, values: &[Word<'_>], line: usize, diags: &mut Diags) -> Option<Vec<f64>> {
+    let mut out = Vec::with_capacity(values.len());
+    let mut ok = true;
+    for w in values {
+        match number(key, w, line, diags) {
+            Some(x) => out.push(x),
+            None => ok = false,
+        }
+    }
+    ok.then_some(out)
 }
 /// What C++'s `>>` into an integer reads of `text`: its leading sign and
 /// digits (0 when there are none).

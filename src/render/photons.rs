@@ -8,8 +8,8 @@ use super::frame::Frame;
 use super::progress::Watch;
 use super::region::render_runs;
 use crate::integrator::photons::{
-    Brdf, HitPoint, HitPointObserver, HitPointSeed, PhotonGrid, PhotonMap, PhotonMode, Plan,
-    gather, shoot, update_hit_point,
+    Brdf, FirstRadius, HitPoint, HitPointObserver, HitPointSeed, PhotonGrid, PhotonMap, PhotonMode,
+    Plan, gather, shoot, update_hit_point,
 };
 use crate::integrator::{Model, RayCounts, SceneAccel, ShadowHints};
 use crate::sampling::strata;
@@ -207,10 +207,12 @@ fn ppm_hit_points(
         .flat_map(|d| &d.pixels)
         .map(|c| DVec3::from(glam::Vec3::from(*c)))
         .collect();
-    let (map, _) = photon_map(p.scene, p.accel, &model, plan, p.seed ^ 0x7072_656c);
-    points.par_iter_mut().for_each(|h| {
-        h.r2 = map.radius2(h.point, h.side).min(plan.radius * plan.radius);
-    });
+    if plan.first_radius == FirstRadius::Nearest {
+        let (map, _) = photon_map(p.scene, p.accel, &model, plan, p.seed ^ 0x7072_656c);
+        points.par_iter_mut().for_each(|h| {
+            h.r2 = map.radius2(h.point, h.side).min(plan.radius * plan.radius);
+        });
+    }
     Ok((direct, points))
 }
 
@@ -225,6 +227,7 @@ fn sppm_estimates(plan: &Plan, pixels: usize) -> Vec<HitPoint> {
                 diff: 0.0,
                 spec: 0.0,
                 mirror: DVec3::Z,
+                cosine: None,
             },
             weight: DVec3::ONE,
             r2: plan.radius * plan.radius,
@@ -475,11 +478,7 @@ fn hit_points(
             pixel,
             point: s.point,
             side: s.side,
-            brdf: Brdf {
-                diff: s.material.diff,
-                spec: if plan.specular { s.material.spec } else { 0.0 },
-                mirror: s.mirror,
-            },
+            brdf: Brdf::of(plan.brdf, plan.specular, &s.material, s.mirror, s.side),
             weight: s.throughput * model.albedo(&s.material, scene.textures(), s.uv),
             r2: plan.radius * plan.radius,
             n: 0.0,

@@ -410,6 +410,8 @@ impl Renderer {
             map,
             no_direct: plan.mode != PhotonMode::Off && plan.term == Term::Replace,
             specular: plan.specular,
+            brdf: plan.brdf,
+            no_ambient: plan.mode != PhotonMode::Off && !plan.ambient,
         }
     }
 

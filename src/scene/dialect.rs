@@ -19,19 +19,23 @@ pub enum Dialect {
     /// wangxr14/raytrace: the framework's model with ambient light, a
     /// mirrored camera and `object` blocks.
     W,
+    /// hta1996/Raytracing: `key:` lines, an eye–look-at camera with depth of
+    /// field, Phong highlights, Fresnel glass, surfaces of revolution.
+    Colon,
 }
 
 impl Dialect {
     /// Every dialect, in the order of the lineage table.
-    pub const ALL: [Dialect; 5] = [
+    pub const ALL: [Dialect; 6] = [
         Dialect::F,
         Dialect::Z14,
         Dialect::Pm3,
         Dialect::V,
         Dialect::W,
+        Dialect::Colon,
     ];
 
-    /// Its short name (`f`, `z14`, `pm3`, `v`, `w`).
+    /// Its short name (`f`, `z14`, `pm3`, `v`, `w`, `colon`).
     pub fn name(self) -> &'static str {
         match self {
             Dialect::F => "f",
@@ -39,6 +43,7 @@ impl Dialect {
             Dialect::Pm3 => "pm3",
             Dialect::V => "v",
             Dialect::W => "w",
+            Dialect::Colon => "colon",
         }
     }
 
@@ -50,6 +55,7 @@ impl Dialect {
             Dialect::Pm3 => &[],
             Dialect::V => &["raytracing-ppm-normalmap"],
             Dialect::W => &["raytrace"],
+            Dialect::Colon => &["hta1996", "hta"],
         }
     }
 

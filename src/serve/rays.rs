@@ -60,7 +60,7 @@ impl Projection {
         let (a, b) = (c.y / c.x, c.z / c.x);
         let (w, h) = (self.width, self.height);
         let [x, y] = match self.lens {
-            Lens::Framework => [(b + 1.0) * w / 2.0, h - (a + 1.0) * h / 2.0],
+            Lens::Framework | Lens::Hta => [(b + 1.0) * w / 2.0, h - (a + 1.0) * h / 2.0],
             Lens::Spanned => {
                 let at = |t: f64, n: f64| (t / 2.0 + 0.5) * (n - 1.0).max(1.0) + 0.5;
                 [at(b, w), h - at(a, h)]
@@ -192,7 +192,9 @@ mod tests {
         let (i, j) = (h - y, x);
         let span = |k: f64, n: f64| 2.0 * ((k - 0.5) / (n - 1.0).max(1.0) - 0.5);
         match lens {
-            Lens::Framework => c.dir + dy * (2.0 * i / h - 1.0) + dx * (2.0 * j / w - 1.0),
+            Lens::Framework | Lens::Hta => {
+                c.dir + dy * (2.0 * i / h - 1.0) + dx * (2.0 * j / w - 1.0)
+            }
             Lens::Spanned => c.dir + dy * span(i, h) + dx * span(j, w),
             Lens::Corner => c.dir + dy * (2.0 * (h - i) / h) + dx * (2.0 * j / w),
         }

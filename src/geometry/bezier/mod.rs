@@ -81,6 +81,8 @@ pub struct Bezier {
     /// Texture frame around the axis.
     e1: DVec3,
     e2: DVec3,
+    /// The texture's u at the profile's ends: u = span.0 + span.1·s.
+    span: (f64, f64),
     /// Profile coefficients on the whole curve (degree + 1 each).
     z: Vec<f64>,
     r: Vec<f64>,
@@ -115,6 +117,7 @@ impl Bezier {
             axis,
             e1,
             e2,
+            span: (0.0, 1.0),
             z: Vec::new(),
             r: Vec::new(),
             center: o1,
@@ -145,6 +148,15 @@ impl Bezier {
     /// counter-clockwise about +z from +x.
     pub fn with_angle_frame(mut self, e1: DVec3, e2: DVec3) -> Self {
         (self.e1, self.e2) = (e1, e2);
+        self
+    }
+
+    /// The same surface with its texture's u running from `start` to
+    /// `start + length` along the profile instead of from 0 to 1: the
+    /// colon family's `rotationbody` gives each curve its share (`ratio:`)
+    /// of one picture.
+    pub fn with_profile_span(mut self, start: f64, length: f64) -> Self {
+        self.span = (start, length);
         self
     }
 

@@ -9,12 +9,14 @@ use std::f64::consts::TAU;
 
 impl Bezier {
     /// Point, outward normal (see the module docs for which side that is)
-    /// and texture coordinates (u = s, v = angle around the axis / 2π) at a hit.
+    /// and texture coordinates (u = s, or its span, v = angle around the
+    /// axis / 2π) at a hit.
     pub fn surface(&self, ray: &Ray, hit: &Hit) -> SurfacePoint {
         let point = ray.at(hit.t);
         let q = point - self.o1;
+        let s = if hit.u.is_finite() { hit.u } else { 0.0 };
         let uv = DVec2::new(
-            if hit.u.is_finite() { hit.u } else { 0.0 },
+            self.span.0 + self.span.1 * s,
             angle_around(q, self.e1, self.e2) / TAU,
         );
         let normal = self.normal_at(hit.u, q);

@@ -1,5 +1,8 @@
 //! The photons' measure of power and the limits of their paths and gathers.
 
+use crate::scene::Light;
+use std::f64::consts::PI;
+
 /// The most hits a photon makes (`photon-mapping.md`, Tracing).
 pub(crate) const MAX_PHOTON_HITS: u32 = 10;
 
@@ -10,4 +13,17 @@ pub(crate) const MIN_GATHERED: usize = 8;
 #[inline]
 pub(crate) fn power(c: glam::DVec3) -> f64 {
     (c.x + c.y + c.z) / 3.0
+}
+
+/// A light's weight in the share of the photons: its `power:` where the
+/// file gives one (the colon family's), else P(c).
+pub(crate) fn share(l: &Light) -> f64 {
+    l.emission.power.unwrap_or_else(|| power(l.color))
+}
+
+/// The power its photons carry together, per unit of colour: its `power:`
+/// (the colon family's photons carry c·power/n: `ppm.cpp`
+/// `Photontracer::emit`), else 4π (Units).
+pub(crate) fn flux_scale(l: &Light) -> f64 {
+    l.emission.power.unwrap_or(4.0 * PI)
 }
