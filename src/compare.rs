@@ -3,6 +3,7 @@
 //! primitive glint sees there (its `primitive` pass), worst first.
 
 use crate::image::Image;
+use crate::integrator::photons::PhotonFilter;
 use crate::render::{Aov, RenderError, RenderOptions, Renderer, place};
 use crate::scene::Dialect;
 use serde_json::{Value, json};
@@ -71,11 +72,16 @@ pub struct Comparison {
     pub threshold: u8,
     /// Pixels that differ by more than it.
     pub differing: u64,
+    /// The mean absolute difference over every channel of every pixel, in
+    /// 8-bit steps (x/255).
+    pub mae: f64,
     /// The groups with differing pixels, most differing pixels first.
     pub groups: Vec<Group>,
     /// The heat map: glint's picture dimmed, differences from red (just
     /// over the threshold) to yellow and white (255 apart).
     pub heat: Image,
+    /// Glint's render that was compared.
+    pub picture: Image,
     /// The options of `glint explain` that trace glint's pixels as this
     /// comparison rendered them: the size and samples as given, the seed
     /// when not 0, and the dialect the scene was drawn in.
@@ -116,10 +122,11 @@ pub fn compare(
     let mut groups: std::collections::BTreeMap<i64, Group> = std::collections::BTreeMap::new();
     let mut worst: std::collections::BTreeMap<i64, u8> = std::collections::BTreeMap::new();
     let mut heat = Vec::with_capacity((w * h) as usize);
-    let mut differing = 0;
+    let (mut differing, mut absolute) = (0, 0u64);
     for i in 0..(w * h) as usize {
         let (a, b) = (&ours[3 * i..3 * i + 3], &theirs[3 * i..3 * i + 3]);
         let d = (0..3).map(|c| a[c].abs_diff(b[c])).max().unwrap_or(0);
+        absolute += (0..3).map(|c| u64::from(a[c].abs_diff(b[c]))).sum::<u64>();
         let v = prim.get(i).copied().unwrap_or(-1.0);
         let key = v as i64;
         let g = groups.entry(key).or_insert_with(|| {
@@ -180,8 +187,10 @@ pub fn compare(
         size: (w, h),
         threshold,
         differing,
+        mae: absolute as f64 / (3 * w as u64 * h as u64).max(1) as f64,
         groups,
         heat: Image::from_pixels(w, h, heat),
+        picture: film.image().clone(),
         explain_options: explain_options(&options, renderer.scene().dialect().dialect),
     })
 }
@@ -194,12 +203,24 @@ fn explain_options(options: &RenderOptions, dialect: Dialect) -> Vec<String> {
         ("--height", options.height.map(u64::from)),
         ("--spp", options.spp.map(u64::from)),
         ("--seed", Some(options.seed).filter(|&s| s != 0)),
+        ("--iterations", options.photons.iterations),
+        ("--emit", options.photons.emit),
     ];
     let mut out: Vec<String> = given
         .into_iter()
         .filter_map(|(flag, v)| v.map(|v| [flag.to_string(), v.to_string()]))
         .flatten()
         .collect();
+    let photons = &options.photons;
+    if let Some(mode) = photons.mode {
+        out.extend(["--photons".to_string(), mode.name().to_string()]);
+    }
+    if photons.filter != PhotonFilter::default() {
+        out.extend([
+            "--photon-filter".to_string(),
+            photons.filter.name().to_string(),
+        ]);
+    }
     out.extend(["--dialect".to_string(), dialect.name().to_string()]);
     out
 }
@@ -239,14 +260,22 @@ impl Comparison {
         command
     }
 
+    /// The share of the pixels that differ by more than the threshold.
+    pub fn share(&self) -> f64 {
+        let (w, h) = self.size;
+        self.differing as f64 / (w as u64 * h as u64).max(1) as f64
+    }
+
     /// A summary, then one paragraph per group, worst first.
     pub fn to_text(&self) -> String {
         let (w, h) = self.size;
         let mut s = format!(
-            "{} of {} pixels differ by more than {}/255\n",
+            "{} of {} pixels ({:.1} %) differ by more than {}/255; mean absolute difference {:.2}/255\n",
             self.differing,
             w as u64 * h as u64,
-            self.threshold
+            100.0 * self.share(),
+            self.threshold,
+            self.mae
         );
         for g in &self.groups {
             let at = place(self.file.as_deref(), g.line);
@@ -306,6 +335,8 @@ impl Comparison {
             "size": [self.size.0, self.size.1],
             "threshold": self.threshold,
             "differing": self.differing,
+            "share": self.share(),
+            "mae": self.mae,
             "groups": groups,
         })
     }

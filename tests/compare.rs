@@ -46,7 +46,41 @@ fn glints_own_render_does_not_differ() {
     let (bytes, _) = ours(&r);
     let c = compare(&r, &bytes, (48, 36), 8, &RenderOptions::default())
         .unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!((c.differing, c.groups.len()), (0, 0));
+    assert_eq!((c.differing, c.groups.len(), c.mae), (0, 0, 0.0));
+    assert_eq!(c.picture.to_rgb8(), bytes);
+}
+
+#[test]
+fn the_mean_absolute_difference_and_share_count_every_channel() {
+    // Theirs: glint's bytes, every red channel 12 up (capped at 255) and
+    // the first 100 pixels' blue channel 4 down (floored at 0): MAE is the
+    // sum of those steps over 3·48·36 channels; only the red steps over 8
+    // count as differing pixels.
+    let r = renderer();
+    let (ours, _) = ours(&r);
+    let mut theirs = ours.clone();
+    let mut steps = 0u64;
+    let mut over = 0u64;
+    for (i, p) in theirs.chunks_mut(3).enumerate() {
+        let red = p[0].saturating_add(12);
+        steps += u64::from(red - p[0]);
+        over += u64::from(red - p[0] > 8);
+        p[0] = red;
+        if i < 100 {
+            let blue = p[2].saturating_sub(4);
+            steps += u64::from(p[2] - blue);
+            p[2] = blue;
+        }
+    }
+    let c = compare(&r, &theirs, (48, 36), 8, &RenderOptions::default())
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(c.mae, steps as f64 / (3 * 48 * 36) as f64);
+    assert_eq!(c.differing, over);
+    assert_eq!(c.share(), over as f64 / (48 * 36) as f64);
+    assert!(
+        c.to_text()
+            .contains(&format!("mean absolute difference {:.2}/255", c.mae))
+    );
 }
 
 #[test]
@@ -138,12 +172,27 @@ fn the_command_writes_the_heat_map_and_json() {
             .output()
             .unwrap()
     };
+    let ours_png = dir.join("ours.png");
     let o = run(
         &[&scene, &theirs],
-        &["-o", heat.to_str().unwrap(), "--json"],
+        &[
+            "-o",
+            heat.to_str().unwrap(),
+            "--ours",
+            ours_png.to_str().unwrap(),
+            "--json",
+        ],
     );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(json["mae"].as_f64() > Some(0.0), "{json}");
+    assert_eq!(
+        json["share"].as_f64(),
+        json["differing"].as_f64().map(|d| d / (48.0 * 36.0))
+    );
+    // The render written beside is glint's, the bytes it compared.
+    let (written, _) = glint::read_picture(&ours_png).unwrap();
+    assert_eq!(written, ours(&r).0);
     assert_eq!(json["groups"][0]["primitive"], 2);
     assert_eq!(json["groups"][0]["type"], "cube");
     assert_eq!(json["groups"][0]["line"], block_line(2));

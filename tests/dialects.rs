@@ -198,8 +198,13 @@ fn a_diffuse_hit_follows_each_lineages_formula() {
     let pm3 = K * diff * BG + K * C * (diff * ln + spec * r_i.dot(l).max(0.0).powi(50)) / d2;
     near(pixel(&wall(5.0), Dialect::Pm3, (10, 10)), pm3, "pm3");
     near(pixel(&wall(-5.0), Dialect::V, (10, 10)), pm3, "v");
-    // The same file read by PM3's sign puts the wall behind the camera: background.
-    near(pixel(&wall(-5.0), Dialect::Pm3, (10, 10)), BG, "pm3 sign");
+    // The same file read by PM3's sign puts the wall behind the camera: the
+    // ray meets nothing, black in PM3 (the background is only its ambient term).
+    assert_eq!(
+        pixel(&wall(-5.0), Dialect::Pm3, (10, 10)),
+        DVec3::ZERO,
+        "pm3 sign"
+    );
     // W: its camera is aimed at pixel (0, 0), whose centre ray is
     // N + Dy·(2·½/H) + Dx·(2·½/W), Dx = unit(N × ẑ) = x̂ (no `Dx=`),
     // Dy = Dx × N = ẑ, both times lens/2 = 0.44.
@@ -244,17 +249,21 @@ fn lineages_clamp_only_the_camera_ray() {
 #[test]
 fn the_lineages_refraction_flag_differs_from_the_face_on_planes() {
     // A slab of two planes y = 2 and y = 3, both facing the camera, of index
-    // 1 (rays go straight) and absorption 1, before a white background. The
-    // framework decides inside by the face: the second plane is entered
-    // again, nothing absorbed. PM3's and V's flag toggles at each
-    // refraction: the segment between the planes ends inside, e^−1 left.
+    // 1 (rays go straight) and absorption 1, before a white background (the
+    // framework) or a white wall y = 4 lit by the ambient term alone (V,
+    // whose rays see no background). The framework decides inside by the
+    // face: the second plane is entered again, nothing absorbed. PM3's and
+    // V's flag toggles at each refraction: the segment between the planes
+    // ends inside, e^−1 left.
     let text = "background\n color= 1 1 1\nend\n\
                 camera\n O= 0 0 0\n N= 0 1 0\n image_W= 21\n image_H= 21\nend\n\
                 primitive plane\n N= 0 -1 0\n R= -2\n refr= 1\n rindex= 1\n absor= 1 1 1\nend\n\
                 primitive plane\n N= 0 -1 0\n R= -3\n refr= 1\n rindex= 1\n absor= 1 1 1\nend\n";
+    let walled =
+        format!("{text}primitive plane\n N= 0 -1 0\n R= -4\n color= 1 1 1\n diff= 1\nend\n");
     let f = pixel(text, Dialect::F, (10, 10));
     assert!((f - DVec3::ONE).abs().max_element() < 1e-6, "{f}");
-    let v = pixel(text, Dialect::V, (10, 10));
+    let v = pixel(&walled, Dialect::V, (10, 10));
     let want = (-1f64).exp();
     assert!(
         (v - DVec3::splat(want)).abs().max_element() < 1e-6,
@@ -299,4 +308,35 @@ fn refraction_without_an_index_passes_in_the_framework_and_mirrors_in_the_lineag
     assert!(f.x > 0.0 && f.y == 0.0, "{f}");
     let w = pixel(text, Dialect::W, (10, 10));
     assert!(w.x == 0.0 && w.y > 0.0, "{w}");
+}
+
+#[test]
+fn a_ray_that_meets_nothing_shows_the_background_only_in_the_framework() {
+    // A camera looking at the empty sky, half the frame through a mirror
+    // plane x = 1 (N·P = R in every dialect but PM3: its R= has the other
+    // sign). The framework shows the background, 0.5·colour of it in the
+    // mirror; the relatives' `RayTracing` returns black for a ray that
+    // meets nothing (Z14, PM3, V, W `raytracer.cpp`): both black.
+    let text = |r: f64| {
+        format!(
+            "background\n color= 0.4 0.6 0.8\nend\n\
+             camera\n O= 0 0 0\n N= 0 1 0\n lens_W= 4\n image_W= 21\n image_H= 21\nend\n\
+             primitive plane\n N= -1 1 0\n R= {r}\n color= 0.5 1 1\n refl= 1\nend\n"
+        )
+    };
+    let sky = DVec3::new(0.4, 0.6, 0.8);
+    let mirrored = sky * DVec3::new(0.5, 1.0, 1.0);
+    let at = |dialect: Dialect, x: u32| {
+        let r = if dialect == Dialect::Pm3 { -1.0 } else { 1.0 };
+        pixel(&text(r), dialect, (x, 10))
+    };
+    let near = |got: DVec3, want: DVec3| (got - want).abs().max_element() < 1e-6;
+    // Column 0 looks left of the mirror's line, column 20 into it (the
+    // plane −x + y = √2 seen from the origin: x < −1 at y = 1 is beyond it).
+    assert!(near(at(Dialect::F, 20), sky), "{}", at(Dialect::F, 20));
+    assert!(near(at(Dialect::F, 0), mirrored), "{}", at(Dialect::F, 0));
+    for d in [Dialect::Z14, Dialect::Pm3, Dialect::V, Dialect::W] {
+        assert_eq!(at(d, 20), DVec3::ZERO, "{d:?} sky");
+        assert_eq!(at(d, 0), DVec3::ZERO, "{d:?} mirror");
+    }
 }

@@ -10,13 +10,22 @@
 //! Answers are exactly those of testing every object in index order: same
 //! object, same hit.
 
+mod build;
 mod bvh;
+mod hull;
+mod node;
 mod packet;
+mod ray_box;
 mod tally;
+#[cfg(test)]
+mod tests;
+mod walk;
 
 use crate::geometry::{Hit, Ray, Shape};
-use bvh::{Bvh, Hull, Item};
+use bvh::Bvh;
 use glam::DVec3;
+use hull::Hull;
+use node::Item;
 pub use tally::{QueryCost, QueryTally};
 
 /// Rays in one packet at most (longer slices are split).

@@ -4,7 +4,9 @@
 //! whole packet skips a box that lies outside all of them at once. Each
 //! answer is exactly that of [`Accel::intersect`] for the same ray.
 
-use super::bvh::{FAR_SLACK, MISS, Node, Pair, RayBox, STACK_SIZE, max_num, min_num};
+use super::node::{Node, Pair};
+use super::ray_box::{FAR_SLACK, MISS, RayBox, max_num, min_num};
+use super::walk::STACK_SIZE;
 use super::{Accel, PACKET_MAX, Primitive};
 use crate::geometry::{Hit, Ray};
 use glam::DVec3;

@@ -28,9 +28,10 @@ pub(crate) fn check(blocks: &[PrimitiveBlock], out: &mut Findings) {
             );
         }
         // The colour scales diffuse, specular and reflection; refraction not.
-        // In W a texture replaces the colour.
+        // In W and lazycal's a texture replaces the colour.
         let coloured = m.diff > 0.0 || m.spec > 0.0 || m.refl > 0.0;
-        let replaced = m.texture.is_some() && out.scene.dialect().dialect == Dialect::W;
+        let replaced =
+            m.texture.is_some() && matches!(out.scene.dialect().dialect, Dialect::W | Dialect::L17);
         if m.refr <= 0.0 && ((m.color == DVec3::ZERO && !replaced) || !coloured) {
             let why = if coloured {
                 "its `color=` is 0 0 0 and it has no `refr=`"

@@ -32,7 +32,7 @@ use super::block_keys::BlockKeys;
 use super::diags::Site;
 use super::shapes::{AddTexture, Built, Shapes};
 use super::values::{Value, unit};
-use crate::geometry::{Bezier, Cylinder, Plane, Shape, Sphere, axis_frame};
+use crate::geometry::{Bezier, BezierUv, Cylinder, Plane, Shape, Sphere, axis_frame};
 use crate::scene::{
     Background, Camera, LightKind, MAX_IMAGE_SIDE, Material, PhotonEmission, Texture,
 };
@@ -402,7 +402,10 @@ pub(crate) fn rotation_body(
             let profile = c.iter().map(|p| DVec2::new(p.y, p.x)).collect();
             let shape = Bezier::new(base, base + DVec3::Z, profile)
                 .with_angle_frame(e1, e2)
-                .with_profile_span(start, share);
+                .with_uv(BezierUv::Span {
+                    start,
+                    length: share,
+                });
             start += share;
             Shape::Bezier(Box::new(shape))
         })

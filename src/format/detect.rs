@@ -8,6 +8,13 @@ use crate::geometry::Shape;
 use crate::scene::{Camera, Dialect, DialectChoice, Scene};
 use glam::DVec3;
 
+/// lazycal's photons a pass (`PHOTONS_PER_ITER`).
+const LAZYCAL_EMIT: u64 = 1_000_000;
+/// lazycal's passes (`ITERS`).
+const LAZYCAL_ITERATIONS: u64 = 100;
+/// lazycal's gather radius, the same for every hit point (`getPixelLength`).
+const LAZYCAL_RADIUS: f64 = 0.2;
+
 /// The brightest light colour component from which a 1/d² lineage is hinted.
 const BRIGHT: f64 = 5.0;
 /// A sphere rests on a plane when its centre's distance from it is its
@@ -21,6 +28,15 @@ pub(crate) struct Evidence {
     colon: Option<usize>,
     /// An `object` header (W's blocks).
     object: Option<usize>,
+    /// An `obj` header (abcbdf's blocks).
+    obj: Option<usize>,
+    /// abcbdf's own kinds or keys (a `tetra`, a triangle's `A0=`, a
+    /// bezier's `center=`/`V0=`…): what and where.
+    a18_marker: Option<(usize, String)>,
+    /// A bezier given by lazycal's keys (`control_points=`, `Dz=`, `S=`).
+    l17_marker: Option<(usize, String)>,
+    /// A `primitive` header (abcbdf's own reader opens only `obj` blocks).
+    primitive: Option<usize>,
     /// A camera `Dx=` (W's camera).
     camera_dx: Option<usize>,
     /// A `primitive polyhedron` (PM3).
@@ -57,11 +73,18 @@ impl Evidence {
         let first = |slot: &mut Option<usize>| {
             slot.get_or_insert(line);
         };
-        if head == "object" {
-            first(&mut self.object);
+        match head {
+            "object" => first(&mut self.object),
+            "obj" => first(&mut self.obj),
+            "primitive" => first(&mut self.primitive),
+            _ => {}
         }
         let kind = kind.unwrap_or("");
-        let primitive = head == "primitive" || head == "object";
+        let primitive = matches!(head, "primitive" | "object" | "obj");
+        let lazycal = ["control_points", "Dz", "S"].into_iter().find(|k| has(k));
+        let abcbdf = ["center", "V0", "V1", "V2", "V3"]
+            .into_iter()
+            .find(|k| has(k));
         match (head, kind) {
             ("camera", _) => {
                 if has("Dx") {
@@ -85,6 +108,19 @@ impl Evidence {
             (_, "Bezier" | "NomalBall" | "NomalPlane") if primitive => {
                 self.v_mark(line, format!("primitive {kind}"));
             }
+            (_, "bezier") if primitive && lazycal.is_some() => {
+                let key = lazycal.unwrap_or_default();
+                self.l17_marker
+                    .get_or_insert((line, format!("a bezier's `{key}=`")));
+            }
+            (_, "bezier") if primitive && abcbdf.is_some() => {
+                let key = abcbdf.unwrap_or_default();
+                self.a18_mark(line, format!("a bezier's `{key}=`"));
+            }
+            (_, "triangle") if primitive && has("A0") => {
+                self.a18_mark(line, "a triangle's `A0=`".to_string());
+            }
+            (_, "tetra") if primitive => self.a18_mark(line, format!("{head} tetra")),
             // Z17's triangle and tensor-product bezier are not the framework's.
             (_, "triangle") if primitive && has("P0") => {}
             (_, "bezier") if primitive && has("newPoint") => {}
@@ -111,6 +147,16 @@ impl Evidence {
 
     fn v_mark(&mut self, line: usize, what: String) {
         self.v_marker.get_or_insert((line, what));
+    }
+
+    fn a18_mark(&mut self, line: usize, what: String) {
+        self.a18_marker.get_or_insert((line, what));
+    }
+
+    /// Whether the blocks read so far are lazycal's (its reader stops at a
+    /// word `end` outside a block).
+    pub fn lazycal(&self) -> bool {
+        self.l17_marker.is_some()
     }
 
     /// A sphere with centre `o` and radius `r`.
@@ -173,6 +219,15 @@ impl Evidence {
                     at(l)
                 ),
             );
+        }
+        if let Some((l, what)) = &self.l17_marker {
+            return choice(Dialect::L17, format!("{what} {}", at(*l)));
+        }
+        if let Some(l) = self.obj {
+            return choice(Dialect::A18, format!("an `obj` block {}", at(l)));
+        }
+        if let Some((l, what)) = &self.a18_marker {
+            return choice(Dialect::A18, format!("{what} {}", at(*l)));
         }
         if let Some(l) = self.object {
             return choice(Dialect::W, format!("an `object` block {}", at(l)));
@@ -243,6 +298,28 @@ impl Evidence {
         }
     }
 
+    /// lazycal's photon settings, fixed in its code (`PPMRenderer.cpp`,
+    /// `Camera::getPixelLength`): its reader reads none of the camera's
+    /// photon keys. Returns a note naming those the file sets.
+    fn lazycal_photons(&self, cam: &mut Camera) -> Option<String> {
+        let p = &mut cam.photons;
+        let set: Vec<String> = p.keys.iter().map(|k| format!("`{k}=`")).collect();
+        (p.emit_photons, p.iterations, p.sample_dist, p.reduction) = (
+            LAZYCAL_EMIT,
+            Some(LAZYCAL_ITERATIONS),
+            LAZYCAL_RADIUS,
+            Some(0.7),
+        );
+        // lazycal keeps every photon of a pass; glint thins beyond this.
+        p.max_photons = LAZYCAL_EMIT * 4;
+        (!set.is_empty()).then(|| {
+            format!(
+                "lazycal's reader reads no photon key ({} here): it renders {LAZYCAL_ITERATIONS}                  passes of {LAZYCAL_EMIT} photons, gathered within R = {LAZYCAL_RADIUS}                  (--iterations and --emit change them)",
+                set.join(" ")
+            )
+        })
+    }
+
     /// Gives the camera keys the file leaves unset dialect `d`'s defaults.
     fn camera_defaults(&self, d: Dialect, cam: &mut Camera) {
         let unset = |k: &str| !self.camera_keys.contains(&k);
@@ -284,7 +361,37 @@ impl Evidence {
     pub fn adapt(&self, d: Dialect, scene: &mut Scene) {
         let mut cam = scene.camera().clone();
         self.camera_defaults(d, &mut cam);
+        let lazycal_note = (d == Dialect::L17)
+            .then(|| self.lazycal_photons(&mut cam))
+            .flatten();
         scene.set_camera(cam);
+        if let Some(note) = lazycal_note {
+            scene.add_note(note);
+        }
+        if d == Dialect::L17 {
+            // lazycal's plane texture: the column along Dx, the row along Dy.
+            for shape in scene.shapes_mut() {
+                if let Shape::Plane(p) = shape {
+                    std::mem::swap(&mut p.dx, &mut p.dy);
+                }
+            }
+            // lazycal's light is no primitive: nothing sees it; it keeps the last.
+            scene.hide_light_surfaces();
+            if scene.lights().len() > 1 {
+                scene.keep_last_light();
+                scene.add_note(
+                    "lazycal's reader keeps the last `light` block only: the others are not drawn"
+                        .to_string(),
+                );
+            }
+        }
+        if let (Dialect::A18, Some(l)) = (d, self.primitive) {
+            scene.add_note(format!(
+                "abcbdf's own reader opens only `obj` blocks: it would draw none of the \
+                 `primitive` blocks (the first at line {}); glint reads them",
+                l + 1
+            ));
+        }
         if d == Dialect::Pm3 {
             // PM3's planes are N·P + R = 0; its textures are offset by half a tile.
             for shape in scene.shapes_mut() {
@@ -295,8 +402,8 @@ impl Evidence {
             }
         }
         let (divisor, flipped) = match d {
-            Dialect::F | Dialect::Z14 => (256.0, false),
-            Dialect::Pm3 | Dialect::V | Dialect::Colon => (255.0, false),
+            Dialect::F | Dialect::Z14 | Dialect::A18 => (256.0, false),
+            Dialect::Pm3 | Dialect::V | Dialect::L17 | Dialect::Colon => (255.0, false),
             Dialect::W => (255.0, true),
         };
         for t in scene.textures_mut() {

@@ -10,6 +10,7 @@
 //! [`detect`] picks the dialect from the markers the reader saw.
 
 mod assets;
+mod bezier_forms;
 mod block_keys;
 mod builder;
 mod colon;

@@ -14,8 +14,15 @@ use crate::scene::{Diagnostic, Dialect, Scene, SceneError, Severity};
 use std::io::Read;
 use std::path::Path;
 
-/// The words that open a block (`object`: W's `primitive`).
-const HEADERS: [&str; 5] = ["background", "camera", "light", "primitive", "object"];
+/// The words that open a block (`object`: W's `primitive`; `obj`: abcbdf's).
+const HEADERS: [&str; 6] = [
+    "background",
+    "camera",
+    "light",
+    "primitive",
+    "object",
+    "obj",
+];
 
 /// How much of a scene file is read at a time.
 const CHUNK: usize = 1 << 20;
@@ -196,6 +203,8 @@ struct Reader<'p> {
     first_skipped: Option<Site>,
     /// Its first word.
     first_skipped_word: String,
+    /// Whether reading stopped at a word `end` outside a block (lazycal's reader).
+    stopped: bool,
 }
 
 impl<'p> Reader<'p> {
@@ -213,6 +222,17 @@ impl<'p> Reader<'p> {
             first_outside: None,
             first_skipped: None,
             first_skipped_word: String::new(),
+            stopped: false,
+        }
+    }
+
+    /// Whether a word `end` outside a block ends the file: lazycal's reader
+    /// stops there, so glint does in its dialect (asked for, or marked by
+    /// the blocks read so far).
+    fn stops_at_end(&self) -> bool {
+        match self.dialect {
+            Some(d) => d == Dialect::L17,
+            None => self.builder.evidence.lazycal(),
         }
     }
 
@@ -242,6 +262,9 @@ impl<'p> Reader<'p> {
 
         let mut lexer = lexer::Lexer::new(text);
         while let Some(line) = lexer.next_line() {
+            if self.stopped {
+                break;
+            }
             let i = first_line + lines;
             lines += 1;
             let line = &line;
@@ -279,6 +302,15 @@ impl<'p> Reader<'p> {
                 if let Some(block) = open.take() {
                     spare = finish(block, &mut self.builder, &mut self.diags);
                 }
+            }
+            if first.text == "end" && self.stops_at_end() {
+                self.builder.note(format!(
+                    "line {}: lazycal's reader stops at a word `end` outside a block: the \
+                     rest of the file is not read",
+                    i + 1
+                ));
+                self.stopped = true;
+                continue;
             }
             if first.text == "end" {
                 if !self.skipping {
@@ -391,7 +423,7 @@ impl<'p> Reader<'p> {
             // Every primitive skipped: an error, never an empty picture.
             let word = &self.first_skipped_word;
             let like = match word.to_ascii_lowercase().as_str() {
-                "obj" | "object" | "objects" | "shape" | "geometry" => {
+                "objects" | "shape" | "geometry" => {
                     format!("`{word}` reads like `primitive` (e.g. `primitive sphere`)")
                 }
                 _ => closest(word, &HEADERS).map_or_else(
@@ -437,7 +469,7 @@ fn header<'a>(
     let (kind, used) = match first.text {
         "background" => (Some(&schema::BACKGROUND), 1),
         "camera" => (Some(&schema::CAMERA), 1),
-        "light" | "primitive" | "object" => {
+        "light" | "primitive" | "object" | "obj" => {
             let rows: &'static [schema::Row] = if first.text == "light" {
                 &LIGHTS
             } else {
@@ -448,6 +480,14 @@ fn header<'a>(
                     When::NotIn(Dialect::W),
                     Site::word(i, first),
                     "`object` opens a primitive only in the W lineage's reader; read as `primitive`",
+                    None,
+                );
+            }
+            if first.text == "obj" {
+                diags.warn_when(
+                    When::NotIn(Dialect::A18),
+                    Site::word(i, first),
+                    "`obj` opens a primitive only in abcbdf's reader; read as `primitive`",
                     None,
                 );
             }
@@ -489,7 +529,7 @@ fn header<'a>(
         type_word: type_word.filter(|_| used == 2).map(|w| w.text),
         entries,
         values,
-        primitive: matches!(first.text, "primitive" | "object"),
+        primitive: matches!(first.text, "primitive" | "object" | "obj"),
         colon: None,
     })
 }
@@ -1374,7 +1414,7 @@ primitive sphere
         let camera =
             "camera\n O= 0 -5 0\n N= 0 1 0\nend\nlight point\n O= 0 0 5\n color= 1 1 1\nend\n";
         let objs = format!(
-            "{camera}obj sphere\n O= 0 0 0\n R= 1\nend\nobj plane\n N= 0 0 1\n R= 0\nend\n"
+            "{camera}shape sphere\n O= 0 0 0\n R= 1\nend\nshape plane\n N= 0 0 1\n R= 0\nend\n"
         );
         let e = parse_str(&objs, None, Path::new("."), None).unwrap_err();
         let errors: Vec<_> = e
@@ -1387,7 +1427,7 @@ primitive sphere
             errors,
             vec![(
                 9,
-                "nothing to render: no primitive was read, and this block was skipped; `obj` reads like `primitive` (e.g. `primitive sphere`)"
+                "nothing to render: no primitive was read, and this block was skipped; `shape` reads like `primitive` (e.g. `primitive sphere`)"
             )]
         );
         // A misspelt header is named with the header it resembles.

@@ -4,7 +4,7 @@
 
 use super::assets::Assets;
 use super::block_keys::BlockKeys;
-use super::values::Kind::{self, Count, List, Num, OneOrThree, Text, Vec2, Vec3};
+use super::values::Kind::{self, Count, List, Num, OneOrThree, Text, TwoOrThree, Vec3};
 use super::{colon, setup, shapes};
 use crate::scene::{Background, Camera, LightKind};
 
@@ -78,13 +78,23 @@ const CYLINDER_KEYS: Keys = &[
     ("N", Text),
     ("H", Text),
 ];
+// `P=` is the framework's `z r` or lazycal's base point; `Dz= S=
+// control_points=` are lazycal's form, `center= V0= ... V3=` abcbdf's.
 const BEZIER_KEYS: Keys = &[
     ("O1", Vec3),
     ("O2", Vec3),
-    ("P", Vec2),
+    ("P", TwoOrThree),
     ("N", Text),
     ("M", Text),
     ("newPoint", Text),
+    ("Dz", Vec3),
+    ("S", Num),
+    ("control_points", List),
+    ("center", Vec3),
+    ("V0", Vec3),
+    ("V1", Vec3),
+    ("V2", Vec3),
+    ("V3", Vec3),
 ];
 const TORUS_KEYS: Keys = &[
     ("O", Text),
@@ -102,7 +112,17 @@ const POLYHEDRON_KEYS: Keys = &[
 const NOMAL_BALL_KEYS: Keys = SPHERE_KEYS;
 const NOMAL_PLANE_KEYS: Keys = PLANE_KEYS;
 const LINEAGE_BEZIER_KEYS: Keys = &[("O", Vec3), ("R", Num), ("ratio", Num)];
-const TRIANGLE_KEYS: Keys = &[("O1", Vec3), ("O2", Vec3), ("O3", Vec3)];
+// `A0= A1= A2= N=`: abcbdf's triangle.
+const TRIANGLE_KEYS: Keys = &[
+    ("O1", Vec3),
+    ("O2", Vec3),
+    ("O3", Vec3),
+    ("A0", Vec3),
+    ("A1", Vec3),
+    ("A2", Vec3),
+    ("N", Vec3),
+];
+const TETRA_KEYS: Keys = &[("V0", Vec3), ("V1", Vec3), ("V2", Vec3), ("V3", Vec3)];
 const MESH_KEYS: Keys = &[
     ("file", Text),
     ("O", Vec3),
@@ -282,7 +302,7 @@ const fn colon_primitive(
 }
 
 /// The `primitive TYPE` blocks.
-pub(crate) static PRIMITIVES: [Row; 14] = [
+pub(crate) static PRIMITIVES: [Row; 15] = [
     primitive("sphere", "primitive sphere", SPHERE_KEYS, shapes::sphere),
     primitive("plane", "primitive plane", PLANE_KEYS, shapes::plane),
     primitive("square", "primitive square", SQUARE_KEYS, shapes::square),
@@ -332,6 +352,7 @@ pub(crate) static PRIMITIVES: [Row; 14] = [
         shapes::lineage_bezier,
     ),
     primitive("torus", "primitive torus", TORUS_KEYS, shapes::torus),
+    primitive("tetra", "primitive tetra", TETRA_KEYS, shapes::tetra),
 ];
 
 /// The colon family's `background` block.

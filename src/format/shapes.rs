@@ -14,14 +14,15 @@
 //! `torus`, `cylinder O= N= R= H=`, `cube O= size=`) build nothing and warn.
 
 use super::assets::Assets;
+use super::bezier_forms;
 use super::block_keys::BlockKeys;
-use super::diags::Site;
+use super::diags::{Site, When};
 use super::obj::{MtlMaterial, Placement};
 use super::values::{PARALLEL_SINE, Value, parallel, unit};
 use crate::geometry::{
     Bezier, Cube, Cylinder, Plane, Rectangle, Shape, Sphere, Square, Triangle, axis_frame,
 };
-use crate::scene::{Material, Texture};
+use crate::scene::{Dialect, Material, Texture};
 use glam::{DMat3, DVec2, DVec3};
 
 /// How far a cube's `Dx=`/`Dy=` may be from unit length and perpendicular
@@ -229,7 +230,8 @@ pub(crate) fn cube(_: &mut Assets, b: &mut BlockKeys<'_>, _: &mut AddTexture<'_>
 }
 
 /// `primitive bezier`: a surface of revolution about `O1= O2=`, profile
-/// `P= z r` (at least two control points).
+/// `P= z r` (at least two control points); or written in lazycal's or
+/// abcbdf's form (see [`bezier_forms`]).
 pub(crate) fn bezier(_: &mut Assets, b: &mut BlockKeys<'_>, _: &mut AddTexture<'_>) -> Shapes {
     if b.fields.get("newPoint").is_some() && b.fields.get("P").is_none() {
         return Built::skipped(
@@ -237,16 +239,32 @@ pub(crate) fn bezier(_: &mut Assets, b: &mut BlockKeys<'_>, _: &mut AddTexture<'
             "a `primitive bezier` with `newPoint=` and no `P=` (Z17's tensor-product patch)",
         );
     }
+    let has = |keys: &[&str]| {
+        keys.iter()
+            .any(|k| b.fields.get(k).is_some() || b.fields.failed(k))
+    };
+    if has(&bezier_forms::AXIS_KEYS) {
+        return Built::one(bezier_forms::axis_form(b)?);
+    }
+    if has(&bezier_forms::CUBIC_KEYS) {
+        return Built::one(bezier_forms::cubic_form(b)?);
+    }
     let axis = b.axis();
-    let points: Vec<(DVec2, Site)> = b
-        .fields
-        .list
-        .iter()
-        .filter_map(|f| match f.value {
-            Value::V2(p) if f.name == "P" => Some((p, f.site)),
-            _ => None,
-        })
-        .collect();
+    let mut points: Vec<(DVec2, Site)> = Vec::new();
+    for f in &b.fields.list {
+        match f.value {
+            Value::V2(p) if f.name == "P" => points.push((p, f.site)),
+            Value::V3(p) if f.name == "P" => {
+                b.diags.warn(
+                    f.site,
+                    "`P=` takes 2 numbers (z r) in a bezier about `O1= O2=`: the third is ignored",
+                    None,
+                );
+                points.push((p.truncate(), f.site));
+            }
+            _ => {}
+        }
+    }
     if points.len() < 2 && !b.fields.failed("P") {
         let site = points.first().map_or(b.header, |(_, s)| *s);
         b.diags.error(
@@ -282,25 +300,93 @@ pub(crate) fn bezier(_: &mut Assets, b: &mut BlockKeys<'_>, _: &mut AddTexture<'
     Built::one(Shape::Bezier(Box::new(Bezier::new(o1, o2, profile))))
 }
 
-/// `primitive triangle`: corners `O1= O2= O3=`, not collinear.
+/// `primitive triangle`: corners `O1= O2= O3=`, not collinear; or
+/// abcbdf's `A0= A1= A2=` with the shading normal `N=` (the triangle's own
+/// where it is missing or zero).
 pub(crate) fn triangle(_: &mut Assets, b: &mut BlockKeys<'_>, _: &mut AddTexture<'_>) -> Shapes {
-    let p0 = b.need_v3("O1", "the first corner");
-    let p1 = b.need_v3("O2", "the second corner");
-    let p2 = b.need_v3("O3", "the third corner");
-    let ((p0, _), (p1, _), (p2, _)) = (p0?, p1?, p2?);
-    let degenerate = match (unit(p1 - p0), unit(p2 - p0)) {
-        (Some(a), Some(c)) => parallel(a, c),
-        _ => true,
+    let abcbdf = ["A0", "A1", "A2"]
+        .iter()
+        .any(|k| b.fields.get(k).is_some() || b.fields.failed(k));
+    let keys = if abcbdf {
+        ["A0", "A1", "A2"]
+    } else {
+        ["O1", "O2", "O3"]
     };
-    if degenerate {
+    let p0 = b.need_v3(keys[0], "the first corner");
+    let p1 = b.need_v3(keys[1], "the second corner");
+    let p2 = b.need_v3(keys[2], "the third corner");
+    let ((p0, _), (p1, _), (p2, _)) = (p0?, p1?, p2?);
+    if collinear(p0, p1, p2) {
         b.diags.error(
             b.header,
-            "degenerate triangle: its corners `O1=`, `O2=`, `O3=` are collinear",
+            format!(
+                "degenerate triangle: its corners `{}=`, `{}=`, `{}=` are collinear",
+                keys[0], keys[1], keys[2]
+            ),
             None,
         );
         return None;
     }
-    Built::one(Shape::Triangle(Box::new(Triangle::new(p0, p1, p2, None))))
+    let normals = b
+        .fields
+        .v3("N")
+        .filter(|_| abcbdf)
+        .and_then(|(n, _)| unit(n))
+        .map(|n| [n; 3]);
+    Built::one(Shape::Triangle(Box::new(Triangle::new(
+        p0, p1, p2, normals,
+    ))))
+}
+
+/// Whether three points lie on one line (or two coincide).
+fn collinear(p0: DVec3, p1: DVec3, p2: DVec3) -> bool {
+    match (unit(p1 - p0), unit(p2 - p0)) {
+        (Some(a), Some(c)) => parallel(a, c),
+        _ => true,
+    }
+}
+
+/// `primitive tetra` (abcbdf): the tetrahedron of corners `V0=` … `V3=`,
+/// four triangles facing out. (abcbdf's own reader hands the block's keys
+/// to its last face, which reads none of them: it draws nothing.)
+pub(crate) fn tetra(_: &mut Assets, b: &mut BlockKeys<'_>, _: &mut AddTexture<'_>) -> Shapes {
+    let v0 = b.need_v3("V0", "a corner");
+    let v1 = b.need_v3("V1", "a corner");
+    let v2 = b.need_v3("V2", "a corner");
+    let v3 = b.need_v3("V3", "a corner");
+    let v = [v0?.0, v1?.0, v2?.0, v3?.0];
+    let volume = (v[1] - v[0]).cross(v[2] - v[0]).dot(v[3] - v[0]);
+    let size = (v[1] - v[0])
+        .length()
+        .max((v[2] - v[0]).length())
+        .max((v[3] - v[0]).length());
+    if volume.abs() <= PARALLEL_SINE * size * size * size {
+        b.diags.error(
+            b.header,
+            "degenerate tetrahedron: its corners `V0=` ... `V3=` lie in one plane",
+            None,
+        );
+        return None;
+    }
+    b.diags.warn_when(
+        When::In(Dialect::A18),
+        b.header,
+        "abcbdf's reader draws no tetrahedron (its keys reach none of the four faces); \
+         glint draws it",
+        None,
+    );
+    // Each face, its corners turned so that (b − a) × (c − a) points away
+    // from the fourth corner.
+    let faces = [[0, 1, 2, 3], [0, 1, 3, 2], [0, 2, 3, 1], [1, 2, 3, 0]];
+    let shapes = faces
+        .iter()
+        .map(|&[a, p, q, away]| {
+            let outward = (v[p] - v[a]).cross(v[q] - v[a]).dot(v[away] - v[a]) < 0.0;
+            let (p, q) = if outward { (p, q) } else { (q, p) };
+            Shape::Triangle(Box::new(Triangle::new(v[a], v[p], v[q], None)))
+        })
+        .collect();
+    Built::of(shapes)
 }
 
 /// `primitive rectangle` (Z14, Z17, P): the plane `N= R=` where both

@@ -21,20 +21,21 @@ pub(crate) enum Kind {
     Num,
     /// One whole number ≥ 0.
     Count,
-    /// Two numbers.
-    Vec2,
     /// Three numbers.
     Vec3,
     /// One number (used for all three) or three.
     OneOrThree,
+    /// Two numbers or three (a bezier's `P=`: the framework's `z r`,
+    /// lazycal's base point).
+    TwoOrThree,
+    /// Any count of numbers, at least one (lazycal's `control_points=`,
+    /// the colon family's `curve:` and `ratio:`).
+    List,
     /// The rest of the line (a file name, a blur name).
     Text,
-    /// Every number on the line, at least one (the colon family's `curve:`
-    /// and `ratio:`).
-    List,
 }
 
-pub(crate) use Kind::{Count, List, Num, OneOrThree, Text, Vec2, Vec3};
+pub(crate) use Kind::{Count, List, Num, OneOrThree, Text, TwoOrThree, Vec3};
 
 /// One `key= values` line of a block, as read.
 #[derive(Clone, Debug)]
@@ -67,8 +68,8 @@ pub(crate) enum Value {
     Num(f64),
     V2(DVec2),
     V3(DVec3),
-    Text(String),
     List(Vec<f64>),
+    Text(String),
 }
 
 /// A key with its parsed value and where it was.
@@ -246,12 +247,12 @@ fn describe(name: &str, kind: Kind) -> &'static str {
     match kind {
         Num => "a number",
         Count => "a whole number",
-        Vec2 => "2 numbers (z r)",
         Vec3 => "3 numbers",
         OneOrThree => "1 or 3 numbers",
+        TwoOrThree => "2 numbers (z r) or 3 (x y z)",
+        List => "numbers",
         Text if name == "blur" => "a blur name (`exp`)",
         Text => "a file name",
-        List => "numbers",
     }
 }
 
@@ -315,17 +316,27 @@ pub(crate) fn parse_entry(
     }
     let n = values.len();
     if kind == List {
-        return list(&key, values, line, diags).map(|v| Field {
+        let mut list = Vec::with_capacity(n);
+        for w in values {
+            match parse_number(w.text) {
+                Ok(x) => list.push(x),
+                Err(err) => {
+                    number_error(&key, w, err, line, diags);
+                    return None;
+                }
+            }
+        }
+        return Some(Field {
             name,
-            value: Value::List(v),
+            value: Value::List(list),
             site,
         });
     }
     let counts: &[usize] = match kind {
         Num | Count => &[1],
-        Vec2 => &[2],
         Vec3 => &[3],
         OneOrThree => &[1, 3],
+        TwoOrThree => &[2, 3],
         Text | List => &[],
     };
     let max = counts.iter().copied().max().unwrap_or(1);
@@ -342,13 +353,16 @@ pub(crate) fn parse_entry(
     let mut numbers = [0.0; 3];
     let mut ok = true;
     for (k, w) in values.iter().take(max).enumerate() {
-        match number(&key, w, line, diags) {
-            Some(x) => {
+        match parse_number(w.text) {
+            Ok(x) => {
                 if let Some(slot) = numbers.get_mut(k) {
                     *slot = x;
                 }
             }
-            None => ok = false,
+            Err(err) => {
+                ok = false;
+                number_error(&key, w, err, line, diags);
+            }
         }
     }
     if !ok {
@@ -395,46 +409,28 @@ pub(crate) fn parse_entry(
             }
             Value::Num(x)
         }
-        Vec2 => Value::V2(DVec2::new(numbers[0], numbers[1])),
         Vec3 => Value::V3(DVec3::new(numbers[0], numbers[1], numbers[2])),
         OneOrThree if n == 1 => Value::V3(DVec3::splat(numbers[0])),
-        OneOrThree => Value::V3(DVec3::new(numbers[0], numbers[1], numbers[2])),
-        Text | List => return None,
+        OneOrThree | TwoOrThree if n == 3 => {
+            Value::V3(DVec3::new(numbers[0], numbers[1], numbers[2]))
+        }
+        TwoOrThree => Value::V2(DVec2::new(numbers[0], numbers[1])),
+        OneOrThree | Text | List => return None,
     };
     Some(Field { name, value, site })
 }
 
-/// One number of key `key`'s values (the word `w` on line `line`), or the error.
-fn number(key: &str, w: &Word<'_>, line: usize, diags: &mut Diags) -> Option<f64> {
-    match parse_number(w.text) {
-        Ok(x) => Some(x),
-        Err(err) => {
-            let message = match err {
-                NumberError::Malformed => {
-                    format!("expected a number after `{key}`, found `{}`", w.text)
-                }
-                NumberError::NotFinite => format!("`{}` is not a finite number", w.text),
-                NumberError::TooLarge => {
-                    format!("`{}` is too large (numbers must lie within ±1e100)", w.text)
-                }
-            };
-            diags.error(Site::word(line, w), message, None);
-            None
+/// Reports word `w` after `key` (as written, `key=` or `key:`), which is
+/// not a usable number.
+fn number_error(key: &str, w: &Word<'_>, err: NumberError, line: usize, diags: &mut Diags) {
+    let message = match err {
+        NumberError::Malformed => format!("expected a number after `{key}`, found `{}`", w.text),
+        NumberError::NotFinite => format!("`{}` is not a finite number", w.text),
+        NumberError::TooLarge => {
+            format!("`{}` is too large (numbers must lie within ±1e100)", w.text)
         }
-    }
-}
-
-/// Every number of a [`List`] key's values, or `None` after an error.
-fn list(key: &str, values: &[Word<'_>], line: usize, diags: &mut Diags) -> Option<Vec<f64>> {
-    let mut out = Vec::with_capacity(values.len());
-    let mut ok = true;
-    for w in values {
-        match number(key, w, line, diags) {
-            Some(x) => out.push(x),
-            None => ok = false,
-        }
-    }
-    ok.then_some(out)
+    };
+    diags.error(Site::word(line, w), message, None);
 }
 /// What C++'s `>>` into an integer reads of `text`: its leading sign and
 /// digits (0 when there are none).

@@ -24,7 +24,7 @@ mod square;
 mod triangle;
 
 pub use aabb::Aabb;
-pub use bezier::Bezier;
+pub use bezier::{Bezier, BezierUv};
 pub use cube::Cube;
 pub use cylinder::Cylinder;
 pub use frame::{angle_around, axis_frame, perpendiculars};

@@ -20,6 +20,25 @@ pub(crate) enum Direct {
     /// The colon family's: as `Centre`, with Phong's specular
     /// spec·(R_I·L)^50 (an even power: its `pow` of a negative cosine).
     Phong,
+    /// lazycal's: the share of a fixed (2q+1)² grid of points over the
+    /// light (q = `half`) that the point sees, times the light's colour over
+    /// its mean; diffuse L·N and Blinn's specular (H·N)^50, L towards the
+    /// light's centre (`lineages.md`, L17).
+    Grid {
+        /// q: the grid's points lie at i/q, j/q of the light's half-edges.
+        half: u32,
+    },
+}
+
+/// Which hits get the ambient term k·background.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Ambient {
+    /// None (the framework).
+    None,
+    /// diff·k·background at a lit hit (the relatives).
+    Diffuse,
+    /// k·background at every hit, whatever its material (lazycal).
+    Every,
 }
 
 /// How glossy reflections are sampled.
@@ -73,11 +92,26 @@ pub(crate) enum Emitter {
     Normalised,
 }
 
+/// How a photon meeting a diffuse surface is bounced diffusely.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum PhotonBounce {
+    /// With probability diff·P(k), k the textured colour, its power times
+    /// k/P(k) (`photon-mapping.md`, Tracing).
+    Textured,
+    /// Z14's: with probability (diff + spec)·P(color), its power times
+    /// color/P(color): the texture does not tint photons (Z14
+    /// `photontracer.cpp` `PhotonDiffusion`).
+    Untextured,
+}
+
 /// Which pixels get more camera rays, and which.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum AntiAlias {
     /// The framework's 7×7 grid where the hash differs from a neighbour's.
     Grid7,
+    /// A 3×3 grid (rays ⅓ px apart) there: the framework's 2015 ancestor,
+    /// abcbdf's and lazycal's.
+    Grid3,
     /// PM3's and V's: (c + the four rays ⅓ px away along each axis) / 5
     /// where the hash differs from a neighbour's.
     Cross5,
@@ -109,8 +143,8 @@ pub(crate) enum Lens {
 pub(crate) struct Model {
     /// How direct light is computed.
     pub direct: Direct,
-    /// Whether diff·k·background is added at a diffuse hit.
-    pub ambient: bool,
+    /// Where k·background is added.
+    pub ambient: Ambient,
     /// Whether a specular-only material gets the light term (else only diff > 0 does).
     pub lit_by_specular: bool,
     /// The light term counts where L·N exceeds this (framework: 0; W: 10⁻⁶).
@@ -138,10 +172,19 @@ pub(crate) struct Model {
     /// its NaN); else the index is used as written (the lineages: light
     /// entering takes the total-internal-reflection path, §7.8).
     pub unit_index_fallback: bool,
+    /// Whether a reflected ray is weighted by the colour × `refl=` (else
+    /// by `refl=` alone: lazycal's ray tracer).
+    pub tinted_reflection: bool,
     /// Whether a texture replaces the colour (else multiplies it).
     pub texture_replaces: bool,
     /// What an emitter's surface shows.
     pub emitter: Emitter,
+    /// Whether a ray that meets nothing shows the background (the
+    /// framework); the relatives' rays show black there, their background
+    /// being only the ambient term (Z14, PM3, V, W `RayTracing`).
+    pub background_seen: bool,
+    /// A photon's diffuse bounce.
+    pub photon_bounce: PhotonBounce,
     /// Whether reflection and refraction rays are traced (V's `algorithm= RC` traces none).
     pub secondary: bool,
     /// Anti-aliasing.
@@ -166,7 +209,7 @@ impl Model {
         let (sq, dq) = (camera.shade_quality, camera.drefl_quality);
         let f = Model {
             direct: Direct::Centre,
-            ambient: false,
+            ambient: Ambient::None,
             lit_by_specular: true,
             min_dot: 0.0,
             glossy: Glossy::Exp,
@@ -179,8 +222,11 @@ impl Model {
             absorb: Absorb::Refracted,
             inside: Inside::FrontFace,
             unit_index_fallback: true,
+            tinted_reflection: true,
             texture_replaces: false,
             emitter: Emitter::Clamped,
+            background_seen: true,
+            photon_bounce: PhotonBounce::Textured,
             secondary: true,
             anti_alias: AntiAlias::Grid7,
             lens: Lens::Framework,
@@ -188,18 +234,20 @@ impl Model {
         let lineage = Model {
             unit_index_fallback: false,
             direct: Direct::Falloff { specular: true },
-            ambient: true,
+            ambient: Ambient::Diffuse,
             lit_by_specular: false,
             glossy: Glossy::Disk,
             glossy_samples: 16 * whole(dq),
             shadow_rays: 16 * whole(sq),
             clamp_every_ray: false,
+            background_seen: false,
             ..f
         };
         match d {
             Dialect::F => f,
             Dialect::Z14 => Model {
                 direct: Direct::Falloff { specular: false },
+                photon_bounce: PhotonBounce::Untextured,
                 anti_alias: AntiAlias::None,
                 ..lineage
             },
@@ -217,19 +265,45 @@ impl Model {
                 glossy_samples: 16 * whole(dq),
                 shadow_rays: 16 * whole(sq),
                 unit_index_fallback: false,
-                ambient: true,
+                ambient: Ambient::Diffuse,
                 min_dot: 1e-6,
                 glossy: Glossy::Mirror,
                 max_depth: 5,
                 texture_replaces: true,
+                background_seen: false,
                 anti_alias: AntiAlias::None,
                 lens: Lens::Corner,
+                ..f
+            },
+            // The framework's ancestor (2015): W's light with the 2014
+            // engine's glossy disk and a 3×3 anti-aliasing grid.
+            Dialect::A18 => Model {
+                glossy_samples: 16 * whole(dq),
+                shadow_rays: 16 * whole(sq),
+                unit_index_fallback: false,
+                ambient: Ambient::Diffuse,
+                min_dot: 1e-6,
+                glossy: Glossy::Disk,
+                anti_alias: AntiAlias::Grid3,
+                ..f
+            },
+            Dialect::L17 => Model {
+                direct: Direct::Grid { half: 4 },
+                ambient: Ambient::Every,
+                glossy: Glossy::Mirror,
+                clamp_every_ray: false,
+                max_depth: 20,
+                inside: Inside::Parity,
+                unit_index_fallback: false,
+                tinted_reflection: false,
+                texture_replaces: true,
+                anti_alias: AntiAlias::Grid3,
                 ..f
             },
             // hta1996/Raytracing `raytracer.cpp`, `object.h`, `const.h`.
             Dialect::Colon => Model {
                 direct: Direct::Phong,
-                ambient: true,
+                ambient: Ambient::Diffuse,
                 min_dot: 1e-6,
                 glossy: Glossy::Mirror,
                 shadow_rays: COLON_SHADOW_GRID * COLON_SHADOW_GRID,

@@ -80,6 +80,33 @@ pub(crate) fn weighted_light(
     )
 }
 
+/// lazycal's share of light `to` that `from` sees: the points of its fixed
+/// grid of (2·`half` + 1)² (see [`Light::for_each_grid_point`]) in front
+/// of the surface (their offset from the point has a dot product with
+/// `normal` above 10⁻⁵, as lazycal tests it) that a shadow ray reaches,
+/// over all the points. Returns the share and the number of shadow rays.
+#[inline(always)]
+pub(crate) fn grid_share(
+    to: &ShadowRays,
+    from: &ShadowFrom,
+    half: u32,
+    normal: DVec3,
+    hints: &mut ShadowHints,
+    tally: &mut impl QueryTally,
+) -> (f64, u64) {
+    let mut shadow = Shadow::new(to, from, hints, tally);
+    let (mut seen, mut rays) = (0u32, 0u64);
+    let n = to.light.for_each_grid_point(from.point, half, |dir, dist| {
+        if dist * dir.dot(normal) > 1e-5 {
+            rays += 1;
+            if shadow.reaches(dir, dist) {
+                seen += 1;
+            }
+        }
+    });
+    (f64::from(seen) / f64::from(n.max(1)), rays)
+}
+
 /// The shadow rays of one shading point towards one light, their queries
 /// counted into a `T`.
 struct Shadow<'a, T> {

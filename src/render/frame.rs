@@ -15,6 +15,8 @@ use rand_pcg::Pcg32;
 
 /// Sub-pixel grid of the framework's anti-aliasing.
 pub(crate) const AA_GRID: u32 = 7;
+/// Sub-pixel grid of its 2015 ancestor's (abcbdf's, lazycal's): rays ⅓ px apart.
+const AA_GRID3: u32 = 3;
 /// Rows per rendering task, also the side of the tiles a task walks.
 pub(crate) const BAND: usize = 8;
 const _: () = assert!(
@@ -165,20 +167,22 @@ impl<'a> Frame<'a> {
         self.integrator.model().anti_alias
     }
 
-    /// The camera rays pass 2 traces in a refined pixel: the 7×7 grid,
-    /// PM3's four rays ⅓ px away or the colon family's turned grid (none
-    /// without anti-aliasing).
+    /// The camera rays pass 2 traces in a refined pixel: the 7×7 or 3×3
+    /// grid, PM3's four rays ⅓ px away or the colon family's turned grid
+    /// (none without anti-aliasing).
     pub fn refine_count(&self) -> usize {
         match self.anti_alias() {
             AntiAlias::Grid7 => (AA_GRID * AA_GRID) as usize,
+            AntiAlias::Grid3 => (AA_GRID3 * AA_GRID3) as usize,
             AntiAlias::Cross5 => CROSS.len(),
             AntiAlias::Rotated => rotated_grid().count(),
             AntiAlias::None => 0,
         }
     }
 
-    /// Sample `k` of pass 2 in pixel (x, y): of the 7×7 grid (row by row),
-    /// or of PM3's four rays ⅓ px above, left, right and below the centre.
+    /// Sample `k` of pass 2 in pixel (x, y): of the 7×7 or 3×3 grid (row by row),
+    /// of PM3's four rays ⅓ px above, left, right and below the centre, or
+    /// of the colon family's turned grid.
     pub fn grid_sample(&self, x: u32, y: u32, k: usize) -> (Ray, PathState) {
         let (fx, fy) = match self.anti_alias() {
             AntiAlias::Cross5 => {
@@ -190,8 +194,12 @@ impl<'a> Frame<'a> {
                 let (dx, dy) = rotated_grid().nth(k).unwrap_or_default();
                 (0.5 + dx, 0.5 + dy)
             }
-            _ => {
-                let g = AA_GRID as usize;
+            grid => {
+                let g = if grid == AntiAlias::Grid3 {
+                    AA_GRID3
+                } else {
+                    AA_GRID
+                } as usize;
                 let at = |k: usize| ((k % g) as f64 + 0.5) / g as f64;
                 (at(k), at(k / g))
             }

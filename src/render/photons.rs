@@ -9,7 +9,7 @@ use super::progress::Watch;
 use super::region::render_runs;
 use crate::integrator::photons::{
     Brdf, FirstRadius, HitPoint, HitPointObserver, HitPointSeed, PhotonGrid, PhotonMap, PhotonMode,
-    Plan, gather, shoot, update_hit_point,
+    Plan, Term, gather, shoot, update_hit_point,
 };
 use crate::integrator::{Model, RayCounts, SceneAccel, ShadowHints};
 use crate::sampling::strata;
@@ -172,7 +172,7 @@ pub(crate) fn progressive(
 /// PPM's start: the direct light rendered once, and the hit points of the
 /// samples the picture takes (with `--spp` or an open lens, each of its n
 /// samples, weighing 1/n), their R₀² the K-nearest distance² in a
-/// preliminary map, at most R².
+/// preliminary map, at most R² (lazycal's: no direct light, R₀ = R).
 fn ppm_hit_points(
     p: &Progressive<'_>,
     runs: &[Region],
@@ -186,8 +186,14 @@ fn ppm_hit_points(
         progress: &|_, _| {},
         cancel: watch.cancel,
     };
-    let done = render_runs(p.frame, runs, spp, Keep::default(), &quiet, &|_, _| {})
-        .ok_or(Unfinished::Cancelled)?;
+    // lazycal's picture is the photon estimate alone: no ray-traced part.
+    let only = plan.term == Term::Only;
+    let done = if only {
+        Vec::new()
+    } else {
+        render_runs(p.frame, runs, spp, Keep::default(), &quiet, &|_, _| {})
+            .ok_or(Unfinished::Cancelled)?
+    };
     done.iter().for_each(|d| rays.add(&d.rays));
     let (seeds, r) = match spp {
         Some(n) => {
@@ -202,6 +208,10 @@ fn ppm_hit_points(
     }?;
     rays.add(&r);
     let mut points = hit_points(p.scene, &model, plan, seeds.hits);
+    if only {
+        let pixels = runs.iter().map(Region::area).sum::<u64>() as usize;
+        return Ok((vec![DVec3::ZERO; pixels], points));
+    }
     let direct: Vec<DVec3> = done
         .iter()
         .flat_map(|d| &d.pixels)
@@ -478,7 +488,14 @@ fn hit_points(
             pixel,
             point: s.point,
             side: s.side,
-            brdf: Brdf::of(plan.brdf, plan.specular, &s.material, s.mirror, s.side),
+            brdf: {
+                let mut brdf = Brdf::of(plan.brdf, plan.specular, &s.material, s.mirror, s.side);
+                // lazycal's hit point weighs k/π, whatever its `diff=`.
+                if plan.term == Term::Only {
+                    brdf.diff = 1.0;
+                }
+                brdf
+            },
             weight: s.throughput * model.albedo(&s.material, scene.textures(), s.uv),
             r2: plan.radius * plan.radius,
             n: 0.0,

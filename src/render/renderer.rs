@@ -408,7 +408,8 @@ impl Renderer {
     ) -> PhotonShading<'s> {
         PhotonShading {
             map,
-            no_direct: plan.mode != PhotonMode::Off && plan.term == Term::Replace,
+            no_direct: plan.mode != PhotonMode::Off
+                && matches!(plan.term, Term::Replace | Term::Only),
             specular: plan.specular,
             brdf: plan.brdf,
             no_ambient: plan.mode != PhotonMode::Off && !plan.ambient,

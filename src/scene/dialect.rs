@@ -19,6 +19,13 @@ pub enum Dialect {
     /// wangxr14/raytrace: the framework's model with ambient light, a
     /// mirrored camera and `object` blocks.
     W,
+    /// abcbdf/photon_mapping-bezier: the framework's ray tracer with ambient
+    /// light, `obj` blocks and a cubic Bézier profile of 3-D points.
+    A18,
+    /// lazycal/Progressive-Photon-Mapping: progressive photon mapping whose
+    /// picture is the photon estimate alone; Béziers by axis, scale and
+    /// control points.
+    L17,
     /// hta1996/Raytracing: `key:` lines, an eye–look-at camera with depth of
     /// field, Phong highlights, Fresnel glass, surfaces of revolution.
     Colon,
@@ -26,16 +33,18 @@ pub enum Dialect {
 
 impl Dialect {
     /// Every dialect, in the order of the lineage table.
-    pub const ALL: [Dialect; 6] = [
+    pub const ALL: [Dialect; 8] = [
         Dialect::F,
         Dialect::Z14,
         Dialect::Pm3,
         Dialect::V,
         Dialect::W,
+        Dialect::A18,
+        Dialect::L17,
         Dialect::Colon,
     ];
 
-    /// Its short name (`f`, `z14`, `pm3`, `v`, `w`, `colon`).
+    /// Its short name (`f`, `z14`, `pm3`, `v`, `w`, `a18`, `l17`, `colon`).
     pub fn name(self) -> &'static str {
         match self {
             Dialect::F => "f",
@@ -43,6 +52,8 @@ impl Dialect {
             Dialect::Pm3 => "pm3",
             Dialect::V => "v",
             Dialect::W => "w",
+            Dialect::A18 => "a18",
+            Dialect::L17 => "l17",
             Dialect::Colon => "colon",
         }
     }
@@ -55,6 +66,8 @@ impl Dialect {
             Dialect::Pm3 => &[],
             Dialect::V => &["raytracing-ppm-normalmap"],
             Dialect::W => &["raytrace"],
+            Dialect::A18 => &["abcbdf", "photon_mapping-bezier"],
+            Dialect::L17 => &["lazycal", "progressive-photon-mapping"],
             Dialect::Colon => &["hta1996", "hta"],
         }
     }

@@ -209,6 +209,37 @@ impl Light {
     }
 }
 
+impl Light {
+    /// Calls `each(unit direction, distance)` from `origin` to each point of
+    /// lazycal's fixed grid over the light: centre + (j/q)·dx − (i/q)·dy for
+    /// i, j from −q to q (q = `half`), the edges included; a point or
+    /// sphere light is its centre alone. Returns the number of points.
+    pub(crate) fn for_each_grid_point(
+        &self,
+        origin: DVec3,
+        half: u32,
+        mut each: impl FnMut(DVec3, f64),
+    ) -> u32 {
+        match self.kind {
+            LightKind::Square { center, dx, dy } if half > 0 => {
+                let q = f64::from(half);
+                let side = 2 * half as i64 + 1;
+                for i in -(half as i64)..=half as i64 {
+                    for j in -(half as i64)..=half as i64 {
+                        let p = center + dx * (j as f64 / q) - dy * (i as f64 / q);
+                        toward(origin, p, &mut each);
+                    }
+                }
+                (side * side) as u32
+            }
+            _ => {
+                toward(origin, self.center(), &mut each);
+                1
+            }
+        }
+    }
+}
+
 /// Calls `each` with the unit direction and distance from `origin` to `p`.
 #[inline(always)]
 fn toward(origin: DVec3, p: DVec3, each: &mut impl FnMut(DVec3, f64)) {

@@ -314,6 +314,22 @@ impl Scene {
         });
     }
 
+    /// Removes the lights' visible surfaces (a lineage whose lights are no
+    /// primitives: lazycal's).
+    pub(crate) fn hide_light_surfaces(&mut self) {
+        self.objects.retain(|o| o.light().is_none());
+    }
+
+    /// Keeps the last light only (lazycal's reader keeps the last `light`
+    /// block), with its line; call before any light has a visible surface
+    /// left ([`Scene::hide_light_surfaces`]).
+    pub(crate) fn keep_last_light(&mut self) {
+        let last = self.lights.len().saturating_sub(1);
+        self.lights.drain(..last);
+        let line = self.light_lines.get(last).copied();
+        self.light_lines = line.into_iter().collect();
+    }
+
     /// Takes the objects out (for the acceleration structure that will own them).
     pub(crate) fn take_objects(&mut self) -> Vec<Object> {
         std::mem::take(&mut self.objects)

@@ -8,7 +8,7 @@ use crate::integrator::photons::{
     Brdf, HitPoint, Photon, PhotonFilter, PhotonMap, PhotonMode, PhotonOptions, Plan, shoot,
     update_hit_point,
 };
-use crate::integrator::{Model, SceneAccel};
+use crate::integrator::{Model, PhotonBounce, SceneAccel};
 use crate::scene::Dialect;
 use glam::DVec3;
 use std::f64::consts::PI;
@@ -84,6 +84,58 @@ fn furnace_wall_gets_the_geometric_series_of_its_bounces() {
         (mean / expected - 1.0).abs() < 0.01,
         "furnace: mean E {mean}, expected {expected}"
     );
+}
+
+#[test]
+fn z14s_photons_bounce_by_the_untextured_colour_and_spec() {
+    // The furnace of grey a = 0.5 with diff 0.6, spec 0.4 and a dark grey
+    // texture (byte 51). Z14's photons bounce with probability
+    // (diff + spec)·P(color) = 0.5, power times color/P(color) = 1: the
+    // texture does not tint them (Z14 `photontracer.cpp` `PhotonDiffusion`),
+    // so E = c/R²·Σ_{h=0..9} 0.5^h. The textured rule of the other
+    // lineages bounces with diff·P(color·t), t = 51/256 (the byte of Z14's
+    // reader): E = c/R²·Σ (0.6·0.5·t)^h.
+    let tmp = tempfile::Builder::new()
+        .prefix("glint-z14-furnace-")
+        .tempdir()
+        .unwrap_or_else(|e| panic!("{e}")); // invariant: the test's scratch folder
+    image::RgbImage::from_pixel(4, 4, image::Rgb([51, 51, 51]))
+        .save(tmp.path().join("grey.bmp"))
+        .unwrap_or_else(|e| panic!("{e}")); // invariant: the test's scratch file
+    let (radius, c) = (2.0f64, 1.0f64);
+    let text = format!(
+        "camera\n O= 0 0 0\n N= 0 1 0\n sample_photons= 100\n sample_dist= 1\nend\n\
+         light point\n O= 0 0 0\n color= {c} {c} {c}\nend\n\
+         primitive sphere\n O= 0 0 0\n R= {radius}\n color= 0.5 0.5 0.5\n diff= 0.6\n spec= 0.4\n texture= grey.bmp\nend\n"
+    );
+    let mut scene = Scene::parse_as(&text, tmp.path(), Some(Dialect::Z14))
+        .unwrap_or_else(|e| panic!("the test scene parses:\n{e}")); // invariant: the test's own fixed input
+    let accel = SceneAccel::build(scene.take_objects());
+    let plan = pm_plan(&scene, 400_000);
+    let z14 = Model::of(Dialect::Z14, scene.camera());
+    let textured = Model {
+        photon_bounce: PhotonBounce::Textured,
+        ..z14
+    };
+    let t: f64 = 51.0 / 256.0;
+    for (model, albedo, what) in [(z14, 0.5f64, "z14"), (textured, 0.6 * 0.5 * t, "textured")] {
+        let pass = shoot(&scene, &accel, &model, &plan, 1, 0);
+        let map = PhotonMap::new(pass.photons, plan.k, plan.radius, plan.filter);
+        let expected: f64 = (0..10).map(|h| albedo.powi(h)).sum::<f64>() * c / (radius * radius);
+        let n = 2000;
+        let mean = fibonacci(n)
+            .map(|u| {
+                map.estimate(u * radius * (1.0 - 1e-9), -u, &lambert())
+                    .value
+                    .x
+            })
+            .sum::<f64>()
+            / n as f64;
+        assert!(
+            (mean / expected - 1.0).abs() < 0.01,
+            "{what}: mean E {mean}, expected {expected}"
+        );
+    }
 }
 
 /// A point light of colour 1 at height 2 over the diffuse floor z = 0.

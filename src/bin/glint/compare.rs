@@ -1,6 +1,6 @@
 //! `glint compare`: a student's picture against glint's.
 
-use crate::args::{DialectArg, PixelArgs};
+use crate::args::{DialectArg, PhotonArgs, PixelArgs};
 use crate::{
     Failure, check_interrupt, fail, load_scene, refuse_scene_as_output, render_failure, shown,
 };
@@ -20,8 +20,13 @@ pub struct Args {
     /// differing pixels from red to white.
     #[arg(short, long)]
     output: Option<PathBuf>,
+    /// Also write glint's render that was compared here (.png, .bmp, .exr or .hdr).
+    #[arg(long)]
+    ours: Option<PathBuf>,
     #[command(flatten)]
     pixels: PixelArgs,
+    #[command(flatten)]
+    photons: PhotonArgs,
     /// A pixel differs when a channel is off by more than this (8-bit steps).
     #[arg(long, default_value_t = glint::DEFAULT_THRESHOLD)]
     threshold: u8,
@@ -34,16 +39,21 @@ pub struct Args {
 
 /// Compares, writes the heat map when asked and prints the report.
 pub fn exec(args: Args, interrupt: &AtomicBool) -> Result<(), Failure> {
-    if let Some(out) = &args.output {
-        refuse_scene_as_output(&args.scene, out)?;
-        refuse_scene_as_output(&args.theirs, out)?;
-        Format::from_path(out).map_err(|e| fail(format!("error: -o: {e}")))?;
+    for (out, flag) in [(&args.output, "-o"), (&args.ours, "--ours")] {
+        if let Some(out) = out {
+            refuse_scene_as_output(&args.scene, out)?;
+            refuse_scene_as_output(&args.theirs, out)?;
+            Format::from_path(out).map_err(|e| fail(format!("error: {flag}: {e}")))?;
+        }
     }
     let scene = load_scene(&args.scene, args.dialect.dialect, true)?;
     let (theirs, size) =
         glint::read_picture(&args.theirs).map_err(|e| fail(format!("error: {e}")))?;
     let renderer = Renderer::new(scene);
-    let options = args.pixels.apply(RenderOptions::default());
+    let options = RenderOptions {
+        photons: args.photons.options(),
+        ..args.pixels.apply(RenderOptions::default())
+    };
     let c = glint::compare(&renderer, &theirs, size, args.threshold, &options).map_err(
         |e| match e {
             glint::CompareError::Size { .. } => {
@@ -57,6 +67,11 @@ pub fn exec(args: Args, interrupt: &AtomicBool) -> Result<(), Failure> {
         let saved = c.heat.save_unless(out, interrupt);
         check_interrupt(interrupt)?;
         saved.map_err(|e| fail(format!("error: cannot write the heat map: {e}")))?;
+    }
+    if let Some(out) = &args.ours {
+        let saved = c.picture.save_unless(out, interrupt);
+        check_interrupt(interrupt)?;
+        saved.map_err(|e| fail(format!("error: cannot write glint's render: {e}")))?;
     }
     let text = if args.json {
         format!("{}\n", c.to_json())

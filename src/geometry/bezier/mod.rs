@@ -66,6 +66,26 @@ use super::{Aabb, axis_frame};
 use glam::{DVec2, DVec3};
 use pieces::{Pieces, min_max};
 
+/// How a hit's texture coordinates are read off the surface.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum BezierUv {
+    /// The spec's: u = the curve parameter s, v = the point's angle / 2π.
+    #[default]
+    Spec,
+    /// lazycal's: u = the profile point's angle / 2π (half a turn more
+    /// where its radius is negative), v = s.
+    Lazycal,
+    /// The colon family's: the spec's with u running from `start` to
+    /// `start + length` along the profile (a `rotationbody` gives each
+    /// curve its share, `ratio:`, of one picture).
+    Span {
+        /// u where the profile starts.
+        start: f64,
+        /// u's change along the whole profile.
+        length: f64,
+    },
+}
+
 /// The surface swept by rotating a Bézier profile (z along the axis from
 /// `o1`, r the radius) about the axis `o1` → `o2`.
 #[derive(Clone, Debug, PartialEq)]
@@ -81,8 +101,8 @@ pub struct Bezier {
     /// Texture frame around the axis.
     e1: DVec3,
     e2: DVec3,
-    /// The texture's u at the profile's ends: u = span.0 + span.1·s.
-    span: (f64, f64),
+    /// How texture coordinates are read.
+    uv: BezierUv,
     /// Profile coefficients on the whole curve (degree + 1 each).
     z: Vec<f64>,
     r: Vec<f64>,
@@ -117,7 +137,7 @@ impl Bezier {
             axis,
             e1,
             e2,
-            span: (0.0, 1.0),
+            uv: BezierUv::Spec,
             z: Vec::new(),
             r: Vec::new(),
             center: o1,
@@ -151,12 +171,9 @@ impl Bezier {
         self
     }
 
-    /// The same surface with its texture's u running from `start` to
-    /// `start + length` along the profile instead of from 0 to 1: the
-    /// colon family's `rotationbody` gives each curve its share (`ratio:`)
-    /// of one picture.
-    pub fn with_profile_span(mut self, start: f64, length: f64) -> Self {
-        self.span = (start, length);
+    /// The same surface with its texture coordinates read as `uv` says.
+    pub fn with_uv(mut self, uv: BezierUv) -> Self {
+        self.uv = uv;
         self
     }
 

@@ -2,23 +2,29 @@
 //! coordinates.
 
 use super::super::{Hit, Ray, SurfacePoint, angle_around};
-use super::Bezier;
 use super::bernstein::eval_d;
+use super::{Bezier, BezierUv};
 use glam::{DVec2, DVec3};
 use std::f64::consts::TAU;
 
 impl Bezier {
     /// Point, outward normal (see the module docs for which side that is)
-    /// and texture coordinates (u = s, or its span, v = angle around the
-    /// axis / 2π) at a hit.
+    /// and texture coordinates (u = s, v = angle around the axis / 2π; or
+    /// as [`BezierUv`] says) at a hit.
     pub fn surface(&self, ray: &Ray, hit: &Hit) -> SurfacePoint {
         let point = ray.at(hit.t);
         let q = point - self.o1;
         let s = if hit.u.is_finite() { hit.u } else { 0.0 };
-        let uv = DVec2::new(
-            self.span.0 + self.span.1 * s,
-            angle_around(q, self.e1, self.e2) / TAU,
-        );
+        let angle = angle_around(q, self.e1, self.e2) / TAU;
+        let uv = match self.uv {
+            BezierUv::Spec => DVec2::new(s, angle),
+            BezierUv::Lazycal => {
+                let n = self.pieces.degree();
+                let negative = n > 0 && eval_d(&self.r, n, s.clamp(0.0, 1.0)).0 < 0.0;
+                DVec2::new(if negative { angle + 0.5 } else { angle }, s)
+            }
+            BezierUv::Span { start, length } => DVec2::new(start + length * s, angle),
+        };
         let normal = self.normal_at(hit.u, q);
         SurfacePoint {
             point,

@@ -19,4 +19,4 @@ pub use plan::{PhotonFilter, PhotonMode, PhotonOptions};
 pub(crate) use points::{HitPointObserver, HitPointSeed};
 pub(crate) use progressive::{HitPoint, gather, update_hit_point};
 pub(crate) use trace::{Photon, shoot};
-pub(crate) use units::MAX_PHOTON_HITS;
+pub(crate) use units::{MAX_PHOTON_HITS, power};

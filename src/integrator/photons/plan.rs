@@ -128,6 +128,23 @@ pub(crate) enum Term {
         /// Only photons that passed a mirror or glass are stored.
         caustics: bool,
     },
+    /// lazycal: the picture is the photon estimate alone (no ray-traced
+    /// light, not even the background); photons are stored at every
+    /// diffuse hit, each carries c/n of its light's colour c (not 4π·c/n),
+    /// a hit point weighs k (not diff·k) and starts at radius R.
+    Only,
+}
+
+impl Term {
+    /// The power of one of `n` photons of a light of colour `c`: 4π·c/n,
+    /// or c/n for lazycal's photons.
+    pub fn photon_power(self, c: glam::DVec3, n: u64) -> glam::DVec3 {
+        let scale = match self {
+            Term::Only => 1.0,
+            _ => 4.0 * std::f64::consts::PI,
+        };
+        c * (scale / n.max(1) as f64)
+    }
 }
 
 /// How a gathered photon is weighted at a hit point.
@@ -208,13 +225,15 @@ impl Plan {
             // Its program draws the ray-traced picture first, PPM's rounds
             // after it (`ppm.cpp` `ppm::Run`): glint draws the first, and
             // PPM with `--photons ppm`.
-            Dialect::F | Dialect::W | Dialect::Colon => PhotonMode::Off,
+            Dialect::F | Dialect::W | Dialect::A18 | Dialect::Colon => PhotonMode::Off,
+            Dialect::L17 => PhotonMode::Ppm,
         };
         let mut mode = options.mode.unwrap_or(file_mode);
         let term = match dialect {
             Dialect::Z14 | Dialect::Colon => Term::Replace,
             Dialect::Pm3 | Dialect::V => Term::Add { caustics: false },
-            Dialect::F | Dialect::W => Term::Add { caustics: true },
+            Dialect::F | Dialect::W | Dialect::A18 => Term::Add { caustics: true },
+            Dialect::L17 => Term::Only,
         };
         let emit = options.emit.unwrap_or(p.emit_photons);
         let radius = p.sample_dist;

@@ -1,19 +1,20 @@
 //! Photon tracing (`photon-mapping.md`, Units, Emission, Tracing): each
-//! light's share of the photons leaves it with power 4π·c/n, bounces by
+//! light's share of the photons leaves it with power 4π·c/n (lazycal's:
+//! c/n, [`Term::photon_power`]), bounces by
 //! Russian roulette and is stored at diffuse hits. Photon j of pass i draws
 //! from its own stream keyed by (seed, i, j), so a pass is the same
 //! whatever the threads.
 
 use super::plan::{PhotonBrdf, Plan, Term};
-use super::units::{MAX_PHOTON_HITS, flux_scale, power, share};
+use super::units::{MAX_PHOTON_HITS, power, share};
 use crate::geometry::perpendiculars;
 use crate::geometry::{Ray, offset_origin};
-use crate::integrator::SceneAccel;
 use crate::integrator::model::{Glossy, Inside, Model};
 use crate::integrator::observer::mix;
 use crate::integrator::optics::{
     cosine_direction, disk_direction, glossy_direction, reflect, refract, sphere_direction,
 };
+use crate::integrator::{PhotonBounce, SceneAccel};
 use crate::scene::{Light, LightKind, Scene};
 use glam::DVec3;
 use rand::{Rng, SeedableRng};
@@ -161,7 +162,12 @@ impl Tracer<'_> {
     fn trace(&self, l: usize, n: u64, rng: &mut Pcg32, out: &mut Vec<Photon>) -> u64 {
         let light = &self.scene.lights()[l];
         let (origin, dir) = emit(light, rng);
-        let mut flux = light.color * (flux_scale(light) / n as f64);
+        // The colon family's photons carry c·power/n (`ppm.cpp`
+        // `Photontracer::emit`).
+        let mut flux = match light.emission.power {
+            Some(p) => light.color * (p / n.max(1) as f64),
+            None => self.plan.term.photon_power(light.color, n),
+        };
         let mut ray = Ray::new(origin, dir);
         let (mut bounces, mut inside, mut hits) = (0u32, false, 0u32);
         // A light's own surface is passed through: a few times at most.
@@ -202,7 +208,13 @@ impl Tracer<'_> {
             } else {
                 (-surface.normal, -surface.shading_normal)
             };
-            let k = self.model.albedo(&m, self.scene.textures(), surface.uv);
+            let (k, diffuse) = match self.model.photon_bounce {
+                PhotonBounce::Textured => (
+                    self.model.albedo(&m, self.scene.textures(), surface.uv),
+                    m.diff,
+                ),
+                PhotonBounce::Untextured => (m.color, m.diff + m.spec),
+            };
             let within = match self.model.inside {
                 Inside::FrontFace => !front,
                 Inside::Parity => inside,
@@ -227,7 +239,7 @@ impl Tracer<'_> {
                 (0.0, 0.0)
             };
             let diffuse = match self.plan.brdf {
-                PhotonBrdf::Lobe => m.diff,
+                PhotonBrdf::Lobe => diffuse,
                 PhotonBrdf::Phong => m.diff + m.spec,
             };
             let mut p = [
@@ -279,7 +291,7 @@ impl Tracer<'_> {
     /// bounces is stored.
     fn stores(&self, hits: u32, bounces: u32) -> bool {
         match self.plan.term {
-            Term::Replace => true,
+            Term::Replace | Term::Only => true,
             Term::Add { caustics: true } => bounces > 0,
             Term::Add { caustics: false } => hits > 1,
         }

@@ -1,7 +1,6 @@
 //! The photons' measure of power and the limits of their paths and gathers.
 
 use crate::scene::Light;
-use std::f64::consts::PI;
 
 /// The most hits a photon makes (`photon-mapping.md`, Tracing).
 pub(crate) const MAX_PHOTON_HITS: u32 = 10;
@@ -19,11 +18,4 @@ pub(crate) fn power(c: glam::DVec3) -> f64 {
 /// file gives one (the colon family's), else P(c).
 pub(crate) fn share(l: &Light) -> f64 {
     l.emission.power.unwrap_or_else(|| power(l.color))
-}
-
-/// The power its photons carry together, per unit of colour: its `power:`
-/// (the colon family's photons carry c·power/n: `ppm.cpp`
-/// `Photontracer::emit`), else 4π (Units).
-pub(crate) fn flux_scale(l: &Light) -> f64 {
-    l.emission.power.unwrap_or(4.0 * PI)
 }

@@ -8,7 +8,10 @@ use crate::geometry::Ray;
 use crate::integrator::model::Direct;
 use crate::integrator::observer::{LightSeen, PathObserver};
 use crate::integrator::optics::reflect;
-use crate::integrator::visibility::{ShadowFrom, ShadowRays, shade_factor, weighted_light};
+use crate::integrator::photons::power;
+use crate::integrator::visibility::{
+    ShadowFrom, ShadowRays, grid_share, shade_factor, weighted_light,
+};
 use crate::scene::LightKind;
 use glam::DVec3;
 
@@ -53,6 +56,7 @@ impl Whitted<'_> {
             let weight = match self.model.direct {
                 Direct::Falloff { .. } => Some(self.falloff_light(ray, p, &to, &from, seen, cx)),
                 Direct::Centre | Direct::Phong => self.centre_light(ray, p, &to, &from, seen, cx),
+                Direct::Grid { half } => self.grid_light(ray, p, &to, &from, half, seen, cx),
             };
             if let Some(w) = weight {
                 *color += k * light.color * w;
@@ -155,6 +159,41 @@ impl Whitted<'_> {
             _ => d.powi(20),
         };
         (seen.diffuse, seen.specular) = (m.diff * d * s, m.spec * highlight * s);
+        cx.obs.light(&seen);
+        Some(seen.diffuse + seen.specular)
+    }
+
+    /// lazycal's term of light `to` at `p`: the share of its grid that `p`
+    /// sees (see [`grid_share`]) over the mean of the light's colour, times
+    /// diff·L·N + spec·(H·N)^50 with L towards its centre and H halfway
+    /// between L and the eye (each part at least 0); `None` where no point
+    /// of the grid is seen.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn grid_light<O: PathObserver>(
+        &self,
+        ray: &Ray,
+        p: &ShadingPoint,
+        to: &ShadowRays,
+        from: &ShadowFrom,
+        half: u32,
+        mut seen: LightSeen,
+        cx: &mut PathContext<O>,
+    ) -> Option<f64> {
+        let (s, rays) = grid_share(to, from, half, p.n, cx.hints, &mut cx.obs.queries());
+        cx.st.rays.shadow += rays;
+        (seen.s, seen.rays) = (s, rays);
+        let mean = power(to.light.color);
+        if s <= 0.0 || mean <= 0.0 {
+            cx.obs.light(&seen);
+            return None;
+        }
+        let m = &p.material;
+        let l = (to.light.center() - p.point).normalize_or_zero();
+        let h = (l - ray.dir).normalize_or_zero();
+        let scale = s / mean;
+        seen.diffuse = m.diff * seen.l_dot_n.max(0.0) * scale;
+        seen.specular = m.spec * h.dot(p.n).max(0.0).powi(50) * scale;
         cx.obs.light(&seen);
         Some(seen.diffuse + seen.specular)
     }

@@ -19,7 +19,7 @@ mod reflected;
 mod refracted;
 mod surface;
 
-use super::model::{Absorb, Model, Split};
+use super::model::{Absorb, Ambient, Model, Split};
 use super::observer::{PathObserver, RayKind, SurfaceSeen};
 use super::path::{PathState, SceneAccel};
 use super::photons::{PhotonBrdf, PhotonMap};
@@ -200,6 +200,9 @@ impl<'a> Whitted<'a> {
         let scene = self.scene;
         let model = &self.model;
         let Some((index, hit)) = found else {
+            if !model.background_seen {
+                return DVec3::ZERO;
+            }
             return self.clamp(scene.background().color(ray.dir), at.depth);
         };
         let object = &self.accel.objects()[index as usize];
@@ -217,9 +220,13 @@ impl<'a> Whitted<'a> {
             material: m,
         });
         let mut color = DVec3::ZERO;
-        if m.diff > 0.0 || (m.spec > 0.0 && model.lit_by_specular) {
+        let lit = m.diff > 0.0 || (m.spec > 0.0 && model.lit_by_specular);
+        if model.ambient == Ambient::Every {
+            color += model.albedo(m, scene.textures(), p.uv) * scene.background().ambient();
+        }
+        if lit {
             let k = model.albedo(m, scene.textures(), p.uv);
-            if model.ambient && !self.photons.no_ambient {
+            if model.ambient == Ambient::Diffuse && !self.photons.no_ambient {
                 color += k * m.diff * scene.background().ambient();
             }
             self.direct(ray, &p, k, &mut color, cx);

@@ -17,7 +17,7 @@ const GLOSSY_AVERAGE_DEPTH: u32 = 2;
 
 impl Whitted<'_> {
     /// The reflected light at `p` (hit by `ray` at `at`) weighted by the
-    /// material's colour × `refl=`; `None` where none is traced (no
+    /// material's colour × `refl=` (or `refl=` alone, as the model says); `None` where none is traced (no
     /// reflection, or past the depth limit: told to the observer as cut).
     #[inline(always)]
     pub(super) fn reflected<O: PathObserver>(
@@ -46,7 +46,11 @@ impl Whitted<'_> {
         }
         let mirror = reflect(ray.dir, p.n);
         let origin = offset_origin(p.point, p.side);
-        let weight = m.color * refl;
+        let weight = if model.tinted_reflection {
+            m.color * refl
+        } else {
+            DVec3::splat(refl)
+        };
         let next = Bounce {
             depth: reflected_depth,
             ..at

@@ -198,7 +198,7 @@ impl Shown<'_> {
         );
         match &node.hit {
             None => {
-                let _ = writeln!(out, "{pad}  miss: background {}", f(node.color));
+                let _ = writeln!(out, "{pad}  miss: nothing hit {}", f(node.color));
             }
             Some(h) => {
                 let _ = writeln!(

@@ -1,0 +1,403 @@
+//! The binned-SAH build: a first pass plans the tree's shape (in parallel
+//! for large subtrees), a second writes its nodes into an array of exactly
+//! their size; the result does not depend on the number of threads.
+
+use super::bvh::{Bvh, NO_LEAF};
+use super::node::{EMPTY, Item, Node, Pair, half_area, union};
+use super::walk::STACK_SIZE;
+
+/// Bins per axis for the surface area heuristic.
+const BINS: usize = 16;
+/// Leaves never hold more primitives than this.
+pub(super) const MAX_LEAF: usize = 8;
+// The build's first pass keeps leaf sizes in a byte.
+const _: () = assert!(MAX_LEAF <= u8::MAX as usize);
+/// Cost of visiting an interior node (two box tests), relative to one
+/// primitive test.
+const TRAVERSAL_COST: f64 = 1.5;
+/// Below this depth splits follow the SAH; deeper ones split at the median,
+/// which bounds the depth (and so the traversal stack) for any input.
+pub(super) const SAH_MAX_DEPTH: usize = 48;
+// A traversal pushes at most one node a level.
+const _: () = assert!(SAH_MAX_DEPTH + 32 < STACK_SIZE);
+/// Subtrees with at least this many primitives build their halves in parallel.
+pub(super) const PARALLEL_MIN: usize = 4096;
+
+impl Bvh {
+    /// Builds the tree over `items`; the result does not depend on the
+    /// number of threads, and the build needs little beyond the items and
+    /// the final arrays.
+    pub(crate) fn build(mut items: Vec<Item>, primitives: usize) -> Bvh {
+        if items.is_empty() {
+            return Bvh::default();
+        }
+        // Two passes keep the peak at the items plus the final arrays: the
+        // first splits and keeps only the tree's shape (a byte a node), the
+        // second writes the nodes, boxes from the items, into an array of
+        // exactly their size. (Keeping the leaves' boxes instead, to free the
+        // items sooner, peaks higher: freed in small blocks, they stay resident.)
+        let ext = Extents::of(&items);
+        let plan = plan(&mut items, &ext, 0);
+        // Pair 0 holds the root (its sibling slot is unused); its descendants follow.
+        let mut pairs = vec![Pair::default(); 1 + plan.pairs()];
+        let (head, rest) = pairs.split_at_mut(1);
+        head[0].0[0] = lay_out(&plan, &items, 0, rest, 1);
+        drop(plan);
+        let prims = items.iter().map(|it| it.index).collect();
+        drop(items);
+        let mut bvh = Bvh {
+            pairs,
+            prims,
+            parent: Vec::new(),
+            leaf_of: Vec::new(),
+        };
+        bvh.link(primitives);
+        bvh
+    }
+
+    /// Fills the upward links: each pair's parent and each primitive's leaf
+    /// (`primitives` bounds the primitive indices).
+    fn link(&mut self, primitives: usize) {
+        let mut parent = vec![0u32; self.pairs.len()];
+        let mut leaf_of = vec![NO_LEAF; primitives];
+        // Node ids run over both slots of every pair but the root's unused one.
+        for k in (0..2 * self.pairs.len() as u32).filter(|&k| k != 1) {
+            let node = self.node(k);
+            let s = node.start as usize;
+            if node.count == 0 {
+                parent[s >> 1] = k;
+            } else {
+                for &p in &self.prims[s..s + node.count as usize] {
+                    if let Some(slot) = leaf_of.get_mut(p as usize) {
+                        *slot = k;
+                    }
+                }
+            }
+        }
+        self.parent = parent;
+        self.leaf_of = leaf_of;
+    }
+}
+
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Extents {
+    pub(super) bounds: [f32; 6],
+    cent: [f32; 6],
+}
+
+impl Extents {
+    const EMPTY: Extents = Extents {
+        bounds: EMPTY,
+        cent: EMPTY,
+    };
+
+    #[inline(always)]
+    fn grow(&mut self, it: &Item) {
+        union(&mut self.bounds, &it.bounds);
+        let c = [it.centroid(0), it.centroid(1), it.centroid(2)];
+        union(&mut self.cent, &[c[0], c[1], c[2], c[0], c[1], c[2]]);
+    }
+
+    pub(super) fn of(items: &[Item]) -> Extents {
+        let mut e = Extents::EMPTY;
+        for it in items {
+            e.grow(it);
+        }
+        e
+    }
+}
+
+/// The shape of a subtree, decided by the first pass of the build: which
+/// items go where and which nodes are leaves, but no boxes yet.
+#[derive(Debug)]
+enum BuildPlan {
+    /// A subtree planned on one thread.
+    Flat(FlatPlan),
+    /// An interior node whose halves were planned in parallel.
+    Split {
+        /// Items of the left half (they come first).
+        mid: usize,
+        /// The left and right halves.
+        halves: Box<(BuildPlan, BuildPlan)>,
+        /// Interior nodes, so pairs, of the subtree.
+        pairs: usize,
+    },
+}
+
+/// A subtree planned on one thread, node by node in depth-first order.
+#[derive(Debug, Default)]
+struct FlatPlan {
+    /// Per node: 0 for an interior node, else the leaf's primitive count.
+    shape: Vec<u8>,
+    /// Interior nodes, so pairs, of the subtree.
+    pairs: usize,
+}
+
+impl BuildPlan {
+    /// Interior nodes of the subtree: the pairs its descendants fill.
+    fn pairs(&self) -> usize {
+        match self {
+            BuildPlan::Flat(flat) => flat.pairs,
+            BuildPlan::Split { pairs, .. } => *pairs,
+        }
+    }
+}
+
+/// Plans the subtree over `items` (`ext` their extents), reordering them
+/// into their final order; halves of at least [`PARALLEL_MIN`] items are
+/// planned in parallel.
+fn plan(items: &mut [Item], ext: &Extents, depth: usize) -> BuildPlan {
+    if items.len() >= PARALLEL_MIN
+        && let Some((mid, left_ext, right_ext)) = split(items, ext, depth)
+    {
+        let (left, right) = items.split_at_mut(mid);
+        let halves = rayon::join(
+            || plan(left, &left_ext, depth + 1),
+            || plan(right, &right_ext, depth + 1),
+        );
+        return BuildPlan::Split {
+            mid,
+            pairs: 1 + halves.0.pairs() + halves.1.pairs(),
+            halves: Box::new(halves),
+        };
+    }
+    let mut flat = FlatPlan::default();
+    plan_flat(items, ext, depth, &mut flat);
+    BuildPlan::Flat(flat)
+}
+
+/// Plans the subtree over `items` on this thread, appending its nodes to `flat`.
+fn plan_flat(items: &mut [Item], ext: &Extents, depth: usize, flat: &mut FlatPlan) {
+    match split(items, ext, depth) {
+        // A leaf holds 1 to MAX_LEAF items (split never leaves more in one):
+        // the count fits a u8 and is never 0.
+        None => flat.shape.push(items.len() as u8),
+        Some((mid, left_ext, right_ext)) => {
+            flat.shape.push(0);
+            flat.pairs += 1;
+            let (left, right) = items.split_at_mut(mid);
+            plan_flat(left, &left_ext, depth + 1, flat);
+            plan_flat(right, &right_ext, depth + 1, flat);
+        }
+    }
+}
+
+/// Writes the subtree planned by `plan` over `items` (the first is primitive
+/// `offset` of the final order) and returns its root: the pairs of its
+/// interior nodes go, depth-first, into `out`, whose first pair has index `base`.
+///
+/// A node's box is the union of its items' boxes: the same values the split
+/// computed. `out` holds exactly the subtree's pairs, so halves planned in
+/// parallel are written in parallel.
+fn lay_out(plan: &BuildPlan, items: &[Item], offset: u32, out: &mut [Pair], base: u32) -> Node {
+    match plan {
+        BuildPlan::Flat(flat) => {
+            let mut writer = FlatWriter {
+                plan: flat,
+                next_node: 0,
+                items,
+                next_item: 0,
+                offset,
+                out,
+                next_pair: 0,
+                base,
+            };
+            writer.node()
+        }
+        BuildPlan::Split { mid, halves, .. } => {
+            let (left_plan, right_plan) = &**halves;
+            let (head, rest) = out.split_at_mut(1);
+            let (left_out, right_out) = rest.split_at_mut(left_plan.pairs());
+            let (left_items, right_items) = items.split_at(*mid);
+            let left_base = base + 1;
+            let right_base = left_base + left_plan.pairs() as u32;
+            let right_offset = offset + *mid as u32;
+            let (l, r) = rayon::join(
+                || lay_out(left_plan, left_items, offset, left_out, left_base),
+                || lay_out(right_plan, right_items, right_offset, right_out, right_base),
+            );
+            head[0] = Pair([l, r]);
+            interior(&l, &r, base)
+        }
+    }
+}
+
+/// The interior node over children `l` and `r`, whose pair has index `pair`.
+#[inline]
+fn interior(l: &Node, r: &Node, pair: u32) -> Node {
+    let mut bounds = l.bounds;
+    union(&mut bounds, &r.bounds);
+    Node {
+        bounds,
+        start: 2 * pair,
+        count: 0,
+    }
+}
+
+/// Writes the nodes of a [`FlatPlan`], depth-first.
+struct FlatWriter<'a> {
+    /// The plan.
+    plan: &'a FlatPlan,
+    /// Next entry of the plan's shape.
+    next_node: usize,
+    /// The subtree's items, in final order.
+    items: &'a [Item],
+    /// First item of the next leaf.
+    next_item: usize,
+    /// Index of the subtree's first primitive in the final order.
+    offset: u32,
+    /// The subtree's pairs.
+    out: &'a mut [Pair],
+    /// Next unwritten pair of `out`.
+    next_pair: usize,
+    /// Index of `out[0]` in the whole tree.
+    base: u32,
+}
+
+impl FlatWriter<'_> {
+    /// Writes the next node's subtree and returns the node.
+    fn node(&mut self) -> Node {
+        let code = self.plan.shape[self.next_node] as usize;
+        self.next_node += 1;
+        if code > 0 {
+            let first = self.next_item;
+            self.next_item += code;
+            let mut bounds = EMPTY;
+            for it in &self.items[first..first + code] {
+                union(&mut bounds, &it.bounds);
+            }
+            return Node {
+                bounds,
+                start: self.offset + first as u32,
+                count: code as u32,
+            };
+        }
+        let p = self.next_pair;
+        self.next_pair += 1;
+        let l = self.node();
+        let r = self.node();
+        self.out[p] = Pair([l, r]);
+        interior(&l, &r, self.base + p as u32)
+    }
+}
+
+/// Bin accumulator.
+#[derive(Clone, Copy)]
+struct Bin {
+    bounds: [f32; 6],
+    count: u32,
+}
+
+/// Decides how to split `items` and reorders them so the first `mid` go
+/// left; returns `mid` and both sides' extents, or `None` for a leaf.
+pub(super) fn split(
+    items: &mut [Item],
+    ext: &Extents,
+    depth: usize,
+) -> Option<(usize, Extents, Extents)> {
+    let n = items.len();
+    if n <= 1 {
+        return None;
+    }
+    let cent = &ext.cent;
+    if depth < SAH_MAX_DEPTH {
+        // Fewer bins for small nodes: binning costs little, evaluating bins does.
+        let bins_used = n.clamp(4, BINS);
+        // Bin index of a centroid on each axis: ((lo + hi) / 2 - cmin) * bins / width,
+        // folded into one multiply-add; usable axes have scale > 0.
+        let mut scale = [0f32; 3];
+        let mut shift = [0f32; 3];
+        for a in 0..3 {
+            let width = cent[a + 3] - cent[a];
+            if width > 0.0 {
+                scale[a] = 0.5 * bins_used as f32 / width;
+                shift[a] = cent[a] * (2.0 * scale[a]);
+            }
+        }
+        let bin_of = |it: &Item, a: usize| -> usize {
+            let k = (it.bounds[a] + it.bounds[a + 3]) * scale[a] - shift[a];
+            // Saturating cast: negatives go to 0; the clamp catches the top edge.
+            (k as usize).min(bins_used - 1)
+        };
+        let mut bins = [[Bin {
+            bounds: EMPTY,
+            count: 0,
+        }; BINS]; 3];
+        for it in items.iter() {
+            for a in 0..3 {
+                if scale[a] > 0.0 {
+                    let bin = &mut bins[a][bin_of(it, a)];
+                    union(&mut bin.bounds, &it.bounds);
+                    bin.count += 1;
+                }
+            }
+        }
+        // Cost (half area x count of both sides) of splitting after bin i.
+        let mut best: Option<(f64, usize, usize)> = None;
+        for a in 0..3 {
+            if scale[a] <= 0.0 {
+                continue;
+            }
+            let mut right_cost = [0f64; BINS];
+            let mut right_count = [0u32; BINS];
+            let mut acc = EMPTY;
+            let mut count = 0;
+            for i in (1..bins_used).rev() {
+                union(&mut acc, &bins[a][i].bounds);
+                count += bins[a][i].count;
+                right_cost[i] = half_area(&acc) * count as f64;
+                right_count[i] = count;
+            }
+            let mut acc = EMPTY;
+            let mut count = 0;
+            for i in 0..bins_used - 1 {
+                union(&mut acc, &bins[a][i].bounds);
+                count += bins[a][i].count;
+                if count == 0 || right_count[i + 1] == 0 {
+                    continue;
+                }
+                let cost = half_area(&acc) * count as f64 + right_cost[i + 1];
+                if best.is_none_or(|(c, _, _)| cost < c) {
+                    best = Some((cost, a, i));
+                }
+            }
+        }
+        if let Some((cost, a, i)) = best {
+            let area = half_area(&ext.bounds);
+            let split_pays = TRAVERSAL_COST * area + cost < n as f64 * area;
+            if !split_pays && n <= MAX_LEAF {
+                return None;
+            }
+            // Both sides are non-empty: the counts above came from the same bin_of.
+            let mut left = Extents::EMPTY;
+            let mut right = Extents::EMPTY;
+            let mut lo = 0;
+            let mut hi = n;
+            while lo < hi {
+                let it = items[lo];
+                if bin_of(&it, a) <= i {
+                    left.grow(&it);
+                    lo += 1;
+                } else {
+                    right.grow(&it);
+                    hi -= 1;
+                    items.swap(lo, hi);
+                }
+            }
+            return Some((lo, left, right));
+        }
+    }
+    if n <= MAX_LEAF {
+        return None;
+    }
+    // Inseparable centroids or too deep: median split on the widest centroid axis.
+    let mut axis = 0;
+    for a in 1..3 {
+        if cent[a + 3] - cent[a] > cent[axis + 3] - cent[axis] {
+            axis = a;
+        }
+    }
+    let mid = n / 2;
+    items.select_nth_unstable_by(mid, |p, q| p.centroid(axis).total_cmp(&q.centroid(axis)));
+    Some((mid, Extents::of(&items[..mid]), Extents::of(&items[mid..])))
+}

@@ -1,0 +1,490 @@
+//! The BVH's build, layout and walks against brute force and hand cases.
+
+use super::build::{Extents, MAX_LEAF, PARALLEL_MIN, SAH_MAX_DEPTH, split};
+use super::bvh::{Bvh, NO_LEAF};
+use super::hull::Hull;
+use super::node::{Item, Node, Pair, f32_down, f32_up};
+use super::ray_box::{MISS, RayBox};
+use super::walk::STACK_SIZE;
+use crate::accel::QueryCost;
+use crate::geometry::{Aabb, Ray};
+use glam::DVec3;
+use rand::{Rng, SeedableRng};
+
+fn unit_box() -> [f32; 6] {
+    [0.0, 0.0, 0.0, 1.0, 1.0, 1.0]
+}
+
+/// A box in f32, rounded outward, around `c` with half sizes `h`.
+fn f32_box(c: DVec3, h: DVec3) -> [f32; 6] {
+    let (lo, hi) = (c - h, c + h);
+    [
+        f32_down(lo.x),
+        f32_down(lo.y),
+        f32_down(lo.z),
+        f32_up(hi.x),
+        f32_up(hi.y),
+        f32_up(hi.z),
+    ]
+}
+
+#[test]
+fn hull_meets_every_box_a_ray_into_its_box_enters() {
+    let mut rng = rand_pcg::Pcg64::seed_from_u64(31);
+    fn v(rng: &mut rand_pcg::Pcg64, s: f64) -> DVec3 {
+        DVec3::new(
+            rng.random_range(-s..s),
+            rng.random_range(-s..s),
+            rng.random_range(-s..s),
+        )
+    }
+    let (mut culled, mut kept) = (0, 0);
+    for k in 0..2000 {
+        let scale = [1.0, 1.0 / 1024.0, 1024.0][k % 3];
+        // Light boxes: solid, flat on an axis (a square light along the
+        // axes, on a plane f32 holds exactly), or a single point.
+        let mut centre = v(&mut rng, 5.0 * scale);
+        let mut half = v(&mut rng, scale).abs();
+        let flat = k / 4 % 3;
+        match k % 4 {
+            0 => {
+                half[flat] = 0.0;
+                centre[flat] = (centre[flat] / scale).round() * scale;
+            }
+            1 => half = DVec3::ZERO,
+            _ => {}
+        }
+        // Origins at a corner of the box, inside it (on its plane when
+        // it is flat), nearby, or far off.
+        let origin = match k % 5 {
+            0 => centre + half * DVec3::new(1.0, -1.0, 1.0),
+            1 => centre + v(&mut rng, 0.5 * scale) * half.signum().abs(),
+            2 => centre + v(&mut rng, scale),
+            _ => centre + v(&mut rng, 20.0 * scale),
+        };
+        let hull = Hull::new(origin, centre - half, centre + half);
+        for _ in 0..20 {
+            // A sample point of the light: inside, on a corner or an edge.
+            let mut u = v(&mut rng, 1.0);
+            for a in 0..3 {
+                if rng.random_bool(0.3) {
+                    u[a] = u[a].signum();
+                }
+            }
+            let q = centre + half * u;
+            let to = q - origin;
+            let dist = to.length();
+            if dist == 0.0 {
+                continue;
+            }
+            let rb = RayBox::new(&Ray::new(origin, to * (1.0 / dist)));
+            // Boxes around points of the segment (touching it, beside
+            // it, containing the origin or q), and anywhere.
+            for _ in 0..10 {
+                let at = match rng.random_range(0..4) {
+                    0 => origin + to * rng.random_range(-0.2..1.2),
+                    1 => origin,
+                    2 => q,
+                    _ => centre + v(&mut rng, 10.0 * scale),
+                };
+                let size = [1e-6, 1e-2, 0.3][rng.random_range(0..3)] * scale;
+                let h = v(&mut rng, size).abs();
+                let mut b = f32_box(at + v(&mut rng, scale) * h, h);
+                if k % 4 == 0 && rng.random_bool(0.3) {
+                    // Beyond a flat light, touching its plane: rays reach
+                    // it at their very end.
+                    let (a, side) = (flat, (q[flat] - origin[flat]).signum());
+                    let (near, far) = if side > 0.0 { (a, a + 3) } else { (a + 3, a) };
+                    b[near] = centre[a] as f32;
+                    b[far] = (centre[a] + side * size) as f32;
+                }
+                if rb.entry(&b, dist) != MISS {
+                    assert!(hull.meets(&b), "{origin} -> {q}: {b:?}");
+                    kept += 1;
+                } else if !hull.meets(&b) {
+                    culled += 1;
+                }
+            }
+        }
+    }
+    // Both outcomes occur often: the test has teeth.
+    assert!(
+        culled > 20_000 && kept > 20_000,
+        "{culled} culled, {kept} kept"
+    );
+}
+
+#[test]
+fn ray_in_a_face_plane_with_zero_direction_enters() {
+    // Origin on the min-x and max-z faces' planes, direction along y only:
+    // both 0·∞ cases must leave the slab open.
+    for dir in [DVec3::Y, DVec3::NEG_Y] {
+        for x in [0.0, 1.0] {
+            let o = DVec3::new(x, if dir.y > 0.0 { -2.0 } else { 3.0 }, 1.0);
+            let rb = RayBox::new(&Ray::new(o, dir));
+            assert_eq!(rb.entry(&unit_box(), f64::INFINITY), 2.0, "{o} {dir}");
+        }
+    }
+    // Negative zero components pick the other side.
+    let d = DVec3::new(-0.0, 1.0, -0.0);
+    let rb = RayBox::new(&Ray::new(DVec3::new(1.0, -2.0, 0.0), d));
+    assert_eq!(rb.entry(&unit_box(), f64::INFINITY), 2.0);
+    // Just outside the slab: miss.
+    let o = DVec3::new(1.0f64.next_up(), -2.0, 0.5);
+    let rb = RayBox::new(&Ray::new(o, DVec3::Y));
+    assert_eq!(rb.entry(&unit_box(), f64::INFINITY), MISS);
+}
+
+#[test]
+fn box_behind_or_beyond_t_best_is_missed() {
+    let rb = RayBox::new(&Ray::new(DVec3::new(0.5, 0.5, 5.0), DVec3::Z));
+    assert_eq!(rb.entry(&unit_box(), f64::INFINITY), MISS);
+    let rb = RayBox::new(&Ray::new(DVec3::new(0.5, 0.5, -5.0), DVec3::Z));
+    assert_eq!(rb.entry(&unit_box(), 4.0), MISS);
+    assert_eq!(rb.entry(&unit_box(), 5.0), 5.0);
+    // Origin inside: entry at 0.
+    let rb = RayBox::new(&Ray::new(DVec3::splat(0.5), DVec3::Z));
+    assert_eq!(rb.entry(&unit_box(), 1.0), 0.0);
+}
+
+#[test]
+fn f32_rounding_is_outward() {
+    for x in [0.1f64, -0.1, 1e-30, -1e-30, 1e29, -3.3e29, 7.0, 0.0] {
+        assert!((f32_down(x) as f64) <= x && (f32_up(x) as f64) >= x, "{x}");
+    }
+    let b = Aabb::from_points(DVec3::splat(0.1), DVec3::splat(0.3));
+    let it = Item::new(0, &b);
+    for a in 0..3 {
+        assert!(
+            it.is_some_and(|it| (it.bounds[a] as f64) < 0.1 && (it.bounds[a + 3] as f64) > 0.3)
+        );
+    }
+    let huge = Aabb::from_points(DVec3::ZERO, DVec3::splat(1e31));
+    assert!(Item::new(0, &huge).is_none());
+    let nan = Aabb {
+        min: DVec3::ZERO,
+        max: DVec3::new(f64::NAN, 1.0, 1.0),
+    };
+    assert!(Item::new(0, &nan).is_none());
+}
+
+/// Depth of the deepest leaf, and checks every primitive is in exactly one leaf.
+fn depth_and_coverage(bvh: &Bvh, n: usize) -> usize {
+    let mut seen = vec![0u32; n];
+    let mut max_depth = 0;
+    let mut todo = vec![(0u32, 0usize)];
+    while let Some((i, d)) = todo.pop() {
+        let node = bvh.node(i);
+        max_depth = max_depth.max(d);
+        if node.count > 0 {
+            let s = node.start as usize;
+            for &p in &bvh.prims[s..s + node.count as usize] {
+                seen[p as usize] += 1;
+                assert!(node.count as usize <= MAX_LEAF);
+            }
+        } else {
+            for c in [node.start, node.start + 1] {
+                let child = bvh.node(c);
+                for a in 0..3 {
+                    assert!(child.bounds[a] >= node.bounds[a]);
+                    assert!(child.bounds[a + 3] <= node.bounds[a + 3]);
+                }
+                todo.push((c, d + 1));
+            }
+        }
+    }
+    assert!(seen.iter().all(|&k| k == 1));
+    max_depth
+}
+
+/// A walk that no leaf stops or shortens visits exactly the nodes whose
+/// boxes the ray enters (a child's box lies in its parent's), and tests
+/// the primitives of those that are leaves: counted by brute force over
+/// every node.
+#[test]
+fn a_walk_counts_every_node_whose_box_the_ray_enters() {
+    let bvh = Bvh::build(sphere_items(3000, 5), 3000);
+    let ids: Vec<u32> = (0..2 * bvh.pairs.len() as u32)
+        .filter(|&k| k != 1)
+        .collect();
+    let mut rng = rand_pcg::Pcg64::seed_from_u64(9);
+    let mut deep = 0;
+    for _ in 0..400 {
+        let o = DVec3::new(rng.random(), rng.random(), rng.random()) * 140.0 - 20.0;
+        let d = DVec3::new(rng.random(), rng.random(), rng.random()) * 2.0 - 1.0;
+        let ray = Ray::new(o, d.normalize());
+        let rb = RayBox::new(&ray);
+        let entered: Vec<&Node> = ids
+            .iter()
+            .map(|&k| bvh.node(k))
+            .filter(|n| rb.entry(&n.bounds, f64::INFINITY) != MISS)
+            .collect();
+        let want = QueryCost {
+            nodes: entered.len() as u64,
+            tests: entered.iter().map(|n| u64::from(n.count)).sum(),
+        };
+        let mut got = QueryCost::default();
+        let mut t = f64::INFINITY;
+        bvh.traverse(None, &ray, &mut t, &mut got, |prims, _| {
+            (false, prims.len())
+        });
+        assert_eq!(got, want, "{ray:?}");
+        deep += usize::from(want.nodes > 20 && want.tests > 0);
+    }
+    assert!(deep > 30, "{deep} rays entered many boxes");
+}
+
+fn sphere_items(n: usize, seed: u64) -> Vec<Item> {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_pcg::Pcg64::seed_from_u64(seed);
+    (0..n)
+        .map(|i| {
+            let c = DVec3::new(rng.random(), rng.random(), rng.random()) * 100.0;
+            let r = DVec3::splat(rng.random_range(0.01..1.0));
+            Item::new(i as u32, &Aabb::from_points(c - r, c + r))
+        })
+        .collect::<Option<Vec<_>>>()
+        .unwrap_or_default()
+}
+
+#[test]
+fn same_tree_on_one_or_two_threads() -> Result<(), rayon::ThreadPoolBuildError> {
+    let items = sphere_items(50_000, 1);
+    let on = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .map(|pool| pool.install(|| Bvh::build(items.clone(), items.len())))
+    };
+    let (a, b) = (on(1)?, on(2)?);
+    assert_eq!(items.len(), 50_000);
+    assert_eq!(a.pairs, b.pairs);
+    assert_eq!(a.prims, b.prims);
+    let depth = depth_and_coverage(&a, items.len());
+    assert!(depth < 40, "depth {depth}");
+    Ok(())
+}
+
+/// Centroids at 2^k: each SAH split peels off only the largest few, so
+/// the tree gets deeper than [`SAH_MAX_DEPTH`].
+fn deep_items() -> Vec<Item> {
+    (-120..99)
+        .flat_map(|k| {
+            let x = 2f64.powi(k);
+            [DVec3::new(x, 0.0, 0.0), DVec3::new(0.0, -x, 0.0)]
+        })
+        .enumerate()
+        .map(|(i, c)| {
+            Item::new(
+                i as u32,
+                &Aabb::from_points(c - c.abs() * 0.25, c + c.abs() * 0.25),
+            )
+        })
+        .collect::<Option<_>>()
+        .unwrap_or_default()
+}
+
+#[test]
+fn upward_links_lead_from_every_leaf_to_the_root() {
+    let items = sphere_items(5000, 4);
+    let n = items.len();
+    // One index left out of the tree: it has no leaf.
+    let bvh = Bvh::build(items[1..].to_vec(), n);
+    assert_eq!(bvh.leaf_of[items[0].index as usize], NO_LEAF);
+    for it in &items[1..] {
+        let k = bvh.leaf_of[it.index as usize];
+        let leaf = bvh.node(k);
+        let s = leaf.start as usize;
+        assert!(leaf.count > 0 && bvh.prims[s..s + leaf.count as usize].contains(&it.index));
+        // Up the parents: each holds the node as a child, and the root is reached.
+        let (mut k, mut steps) = (k, 0);
+        while k != 0 {
+            let parent = bvh.node(bvh.parent[k as usize >> 1]);
+            assert!(parent.count == 0 && parent.start == k & !1);
+            k = bvh.parent[k as usize >> 1];
+            steps += 1;
+            assert!(steps < STACK_SIZE);
+        }
+    }
+}
+
+#[test]
+fn depth_stays_within_the_stack() {
+    let items = deep_items();
+    assert_eq!(items.len(), 2 * 219, "every box is finite");
+    let n = items.len();
+    let bvh = Bvh::build(items, n);
+    let depth = depth_and_coverage(&bvh, n);
+    assert!(
+        depth > SAH_MAX_DEPTH,
+        "the median fallback is not exercised"
+    );
+    assert!(depth < STACK_SIZE);
+}
+
+/// The build as it was before the two-pass one (every subtree got its
+/// worst-case 2n − 2 slots, then the used ones were copied out), kept to
+/// check that the tree did not change.
+mod slot_build {
+    use super::*;
+
+    /// The tree over `items` as the slot build made it.
+    pub(super) fn build(mut items: Vec<Item>) -> Bvh {
+        let n = items.len();
+        if n == 0 {
+            return Bvh::default();
+        }
+        let ext = Extents::of(&items);
+        let mut slots = vec![Node::default(); 2 * n - 1];
+        let (root, count) = build_node(&mut items, 0, ext, 0, &mut slots[1..], 1);
+        let prims = items.iter().map(|it| it.index).collect();
+        let pairs = compact(root, &slots, count);
+        Bvh {
+            pairs,
+            prims,
+            ..Bvh::default()
+        }
+    }
+
+    /// Builds the subtree over `items` (the first is primitive `offset` of the
+    /// final order, `ext` their extents) and returns its root and node count.
+    ///
+    /// Its descendants go into `desc`, whose first slot has index `base`: a
+    /// subtree over n items has at most 2n − 2 descendants, so each subtree gets
+    /// exactly that many slots and the two halves of a split can be built on
+    /// different threads without sharing anything.
+    fn build_node(
+        items: &mut [Item],
+        offset: u32,
+        ext: Extents,
+        depth: usize,
+        desc: &mut [Node],
+        base: u32,
+    ) -> (Node, usize) {
+        let n = items.len();
+        let Some((mid, left_ext, right_ext)) = split(items, &ext, depth) else {
+            let leaf = Node {
+                bounds: ext.bounds,
+                start: offset,
+                count: n as u32,
+            };
+            return (leaf, 1);
+        };
+        let (pair, rest) = desc.split_at_mut(2);
+        let (left_desc, right_desc) = rest.split_at_mut(2 * mid - 2);
+        let (left, right) = items.split_at_mut(mid);
+        let left_base = base + 2;
+        let right_base = left_base + 2 * mid as u32 - 2;
+        let right_offset = offset + mid as u32;
+        // Sequential: the tree does not depend on the order halves are built in.
+        let (l, nl) = build_node(left, offset, left_ext, depth + 1, left_desc, left_base);
+        let (r, nr) = build_node(
+            right,
+            right_offset,
+            right_ext,
+            depth + 1,
+            right_desc,
+            right_base,
+        );
+        pair[0] = l;
+        pair[1] = r;
+        let interior = Node {
+            bounds: ext.bounds,
+            start: base,
+            count: 0,
+        };
+        (interior, 1 + nl + nr)
+    }
+
+    /// The nodes reachable from `root` (children in `slots`), without the
+    /// unused slots, as sibling pairs in depth-first order.
+    fn compact(root: Node, slots: &[Node], count: usize) -> Vec<Pair> {
+        let mut out = Vec::with_capacity(count.div_ceil(2));
+        out.push(Pair([root, Node::default()]));
+        let mut todo = vec![0u32];
+        while let Some(k) = todo.pop() {
+            let (p, c) = (k as usize >> 1, k as usize & 1);
+            if out[p].0[c].count == 0 {
+                let s = out[p].0[c].start as usize;
+                let first = 2 * out.len() as u32;
+                out.push(Pair([slots[s], slots[s + 1]]));
+                out[p].0[c].start = first;
+                todo.push(first + 1);
+                todo.push(first);
+            }
+        }
+        out
+    }
+}
+
+/// Every field of every node, bounds as bits. (The boxes are now unions
+/// taken in another order: equal values, but a zero bound could change
+/// sign; the inputs here have none.)
+fn node_bits(bvh: &Bvh) -> Vec<[u32; 8]> {
+    let bits = |n: &Node| {
+        let b = n.bounds.map(f32::to_bits);
+        [b[0], b[1], b[2], b[3], b[4], b[5], n.start, n.count]
+    };
+    bvh.pairs
+        .iter()
+        .flat_map(|p| [bits(&p.0[0]), bits(&p.0[1])])
+        .collect()
+}
+
+/// Equal unit boxes centred on 7 points of a line `spread` apart (all
+/// at one point for 0): centroids the SAH cannot separate.
+fn degenerate_items(n: usize, spread: f64) -> Vec<Item> {
+    (0..n)
+        .filter_map(|i| {
+            let c = DVec3::new(1.0 + spread * (i % 7) as f64, 2.0, 3.0);
+            Item::new(i as u32, &Aabb::from_points(c - 0.5, c + 0.5))
+        })
+        .collect()
+}
+
+#[test]
+fn same_tree_as_the_slot_build() -> Result<(), rayon::ThreadPoolBuildError> {
+    let cases = [
+        sphere_items(0, 2),
+        sphere_items(1, 2),
+        sphere_items(2, 3),
+        sphere_items(9, 4),
+        sphere_items(1000, 5),
+        sphere_items(PARALLEL_MIN - 1, 6),
+        sphere_items(PARALLEL_MIN, 7),
+        sphere_items(70_000, 8),
+        degenerate_items(10_000, 0.0),
+        degenerate_items(10_000, 1e-3),
+        deep_items(),
+    ];
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()?;
+        for items in &cases {
+            let (new, old) = pool.install(|| {
+                (
+                    Bvh::build(items.clone(), items.len()),
+                    slot_build::build(items.clone()),
+                )
+            });
+            let n = items.len();
+            assert_eq!(new.pairs, old.pairs, "{n} items, {threads} threads");
+            assert_eq!(node_bits(&new), node_bits(&old), "{n} items");
+            assert_eq!(new.prims, old.prims, "{n} items");
+            // The arrays are allocated at exactly their size.
+            assert_eq!(new.pairs.capacity(), new.pairs.len());
+            assert_eq!(new.prims.capacity(), n);
+            if n > 0 {
+                depth_and_coverage(&new, n);
+            }
+        }
+    }
+    Ok(())
+}
+
+#[test]
+fn node_is_32_bytes() {
+    assert_eq!(size_of::<Node>(), 32);
+    assert_eq!(size_of::<Pair>(), 64);
+}
