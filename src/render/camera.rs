@@ -119,10 +119,17 @@ impl CameraRays {
     #[inline]
     fn direction(&self, i: f64, j: f64) -> DVec3 {
         match self.lens {
-            Lens::Framework | Lens::Hta => {
+            Lens::Framework => {
                 self.dir
                     + self.dy * (2.0 * i / self.height - 1.0)
                     + self.dx * (2.0 * j / self.width - 1.0)
+            }
+            // Its pixel k's centre is its integer k, rows from the top: half
+            // a pixel left of and above the framework's.
+            Lens::Hta => {
+                self.dir
+                    + self.dy * (2.0 * (i + 0.5) / self.height - 1.0)
+                    + self.dx * (2.0 * (j - 0.5) / self.width - 1.0)
             }
             // Pixel k's centre is the lineage's integer k: N + Dy·lens_H·(k/(H−1) − ½)...
             Lens::Spanned => {
