@@ -60,12 +60,24 @@ PAIRS = [
     Pair("f5", "kevinpruvost+Ray_Tracing", "src/scene5.txt", "screenshots/Raytracer_output5.bmp", (),
          ((b"texture= src/estuary.bmp", b""),),
          "src/estuary.bmp is not in the repository: no texture stands in"),
+    Pair("colon-bar3", "hta1996+Raytracing", "bar3.txt", "RTbar3.bmp",
+         note="its ray-traced pass (`RT`), before its anti-aliasing; bar3.txt says 1280x720"),
+    Pair("colon-scene1", "hta1996+Raytracing", "scene1.txt", "RTscene1.bmp",
+         note="its ray-traced pass (`RT`), before its anti-aliasing; scene1.txt says 1920x1080"),
+    Pair("colon-bar", "hta1996+Raytracing", "bar.txt", "bar.bmp", ("--photons", "ppm", "--iterations", "4"),
+         note="its PPM picture after an unknown number of its 15000 rounds of 10^6 photons; glint: 4 rounds"),
 ]
 
 # Pictures that cannot be compared, and why.
 NOT_COMPARABLE = [
     ("f-cuda", "kevinpruvost+CUDA_RayTracing", "CUDA_RayTracing/resources/screenshot*.jpg",
      "JPEG screenshots of the GPU port's window, lossy (lineage spec §6)"),
+    ("colon-bar32", "hta1996+Raytracing", "RTbar32.bmp",
+     "drawn from a version of bar3.txt the repository lacks (grey stone walls behind bar3's glasses)"),
+    ("colon-cornell", "hta1996+Raytracing", "cornell_box_ppm.png",
+     "a PPM picture at 1600x1280, a size no file sets (the cornell_box files say 1348x1080), "
+     "of one of the four cornell_box files"),
+    ("colon-pre", "hta1996+Raytracing", "precornell_box_glass.bmp", "empty: its header says 0x0"),
 ]
 
 
