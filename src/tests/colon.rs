@@ -269,3 +269,46 @@ fn fractional_qualities_are_sixteenths_in_the_framework_only() {
     );
     assert!(why.contains("1 glossy rays"), "{why}");
 }
+
+/// Its files name textures `../picture/….bmp` (its program runs in
+/// `build/`): found in the scene's folder's `picture/` as that program
+/// finds them; on a plane the texture is loaded, a sphere's is not drawn
+/// (its reader draws spheres untextured), with a warning. Files written
+/// with `=` keep their lookup.
+#[test]
+fn its_textures_are_found_as_its_program_run_below_finds_them() {
+    let tmp = tempfile::Builder::new()
+        .prefix("glint-colon-")
+        .tempdir()
+        .unwrap(); // invariant: a test's scratch folder (a failure fails the test)
+    let dir = tmp.path();
+    std::fs::create_dir(dir.join("picture")).unwrap(); // invariant: a test's scratch folder (a failure fails the test)
+    image::RgbImage::from_pixel(2, 2, image::Rgb([255, 0, 0]))
+        .save(dir.join("picture/t.bmp"))
+        .unwrap(); // invariant: the test's own fixed input (a failure fails the test)
+    let s = Scene::parse(
+        "primitive plane\n\tN: 0 0 1\n\td: 0\n\ttexture: ../picture/t.bmp\nend\n\
+         primitive sphere\n\tO: 0 0 1\n\tR: 1\n\ttexture: ../picture/t.bmp\nend\n",
+        dir,
+    )
+    .unwrap_or_else(|e| panic!("{e}")); // invariant: the test's own fixed input (a failure fails the test)
+    let textures: Vec<_> = s
+        .objects()
+        .iter()
+        .map(|o| s.material_of(o).texture)
+        .collect();
+    assert_eq!(textures, [Some(0), None]);
+    assert!(
+        warnings(&s).iter().any(|m| m.contains("untextured")),
+        "{:?}",
+        warnings(&s)
+    );
+    let e = Scene::parse(
+        "primitive plane\n N= 0 0 1\n R= 0\n texture= ../picture/t.bmp\nend\n",
+        dir,
+    );
+    assert!(
+        e.is_err(),
+        "a `=` file looks only beside the scene and in the working directory"
+    );
+}
