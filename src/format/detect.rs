@@ -415,16 +415,17 @@ impl Evidence {
     }
 }
 
-/// The colon family's PPM hit points at most: its program keeps them all;
-/// its 960×540 files with their open lens need about 20 million.
+/// The colon family's PPM hit points at most: its program keeps them all,
+/// and its 960×540 `bar.txt` with its open lens (16 rays a pixel) makes
+/// more than the 4 million glint allows the others.
 const COLON_HIT_POINTS: u64 = 32_000_000;
 
 /// The colon family's progressive photon mapping, fixed in its program
 /// (hta1996/Raytracing `const.h`): a million photons a round, every hit
 /// point's first radius² 0.2, α = 2/3, 15000 rounds; it stores every
 /// photon's every hit (at most 10 each: glint's cap is that), and every
-/// hit point of its eye pass, 16 lens rays a pixel (glint's cap: a 960×540
-/// picture's, [`COLON_HIT_POINTS`]).
+/// hit point of its eye pass, 16 lens rays a pixel (glint's cap:
+/// [`COLON_HIT_POINTS`]).
 fn colon_photons(cam: &mut Camera) {
     let p = &mut cam.photons;
     p.max_hitpoints = Some(COLON_HIT_POINTS);
