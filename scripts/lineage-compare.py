@@ -66,6 +66,12 @@ PAIRS = [
     Pair("l17-1", "lazycal+Progressive-Photon-Mapping", "scenes/scene_bowling.txt",
          "scenes/bowling-1.bmp", ("--iterations", "1"), (),
          "the photon estimate after lazycal's first pass of 10^6 photons", "scenes"),
+    Pair("colon-bar3", "hta1996+Raytracing", "bar3.txt", "RTbar3.bmp",
+         note="its ray-traced pass (`RT`), before its anti-aliasing; bar3.txt says 1280x720"),
+    Pair("colon-scene1", "hta1996+Raytracing", "scene1.txt", "RTscene1.bmp",
+         note="its ray-traced pass (`RT`), before its anti-aliasing; scene1.txt says 1920x1080"),
+    Pair("colon-bar", "hta1996+Raytracing", "bar.txt", "bar.bmp", ("--photons", "ppm", "--iterations", "4"),
+         note="its PPM picture after an unknown number of its 15000 rounds of 10^6 photons; glint: 4 rounds"),
 ]
 
 # Pictures that cannot be compared, and why.
@@ -74,6 +80,12 @@ NOT_COMPARABLE = [
      "JPEG screenshots of the GPU port's window, lossy (lineage spec §6)"),
     ("a18", "abcbdf+photon_mapping-bezier", "74b1OOOPICad.jpg",
      "a 650x430 JPEG, lossy, of no file of the repository (its scene_1.txt is 128x76)"),
+    ("colon-bar32", "hta1996+Raytracing", "RTbar32.bmp",
+     "drawn from a version of bar3.txt the repository lacks (grey stone walls behind bar3's glasses)"),
+    ("colon-cornell", "hta1996+Raytracing", "cornell_box_ppm.png",
+     "a PPM picture at 1600x1280, a size no file sets (the cornell_box files say 1348x1080), "
+     "of one of the four cornell_box files"),
+    ("colon-pre", "hta1996+Raytracing", "precornell_box_glass.bmp", "empty: its header says 0x0"),
 ]
 
 

@@ -71,6 +71,7 @@ impl Prepared {
                         diff: 1.0,
                         spec: 0.0,
                         mirror: DVec3::Z,
+                        cosine: None,
                     },
                     weight: DVec3::ONE,
                     r2: *r2,
@@ -98,6 +99,7 @@ impl Map {
             diff: 1.0,
             spec: 0.0,
             mirror: n,
+            cosine: None,
         };
         self.0.estimate(x, n, &brdf).value.x
     }

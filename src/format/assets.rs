@@ -61,6 +61,14 @@ impl<'p> Assets<'p> {
     /// separators, the same with `/`). Returns the path and where it was
     /// found, or why not (the places tried, or a path that is not a file).
     fn resolve(&self, name: &str) -> Result<(PathBuf, &'static str), Unusable> {
+        self.resolve_from(name, false)
+    }
+
+    /// [`Assets::resolve`], then, with `below` and a name that starts with
+    /// `../`, the name as a program run one folder below the scene's would
+    /// open it (the colon family's `build.sh` runs its program in `build/`,
+    /// and its files name `../picture/…`).
+    fn resolve_from(&self, name: &str, below: bool) -> Result<(PathBuf, &'static str), Unusable> {
         let mut tried: Vec<PathBuf> = Vec::new();
         let slashed = name.replace('\\', "/");
         let names: &[&str] = if slashed != name {
@@ -70,15 +78,24 @@ impl<'p> Assets<'p> {
         };
         for &n in names {
             let p = Path::new(n);
+            let up = p.strip_prefix("..").ok().filter(|_| below);
             let candidates = if p.is_absolute() {
                 [
                     (p.to_path_buf(), "as an absolute path"),
+                    (p.to_path_buf(), ""),
                     (p.to_path_buf(), ""),
                 ]
             } else {
                 [
                     (self.base.join(p), "in the scene file's folder"),
                     (p.to_path_buf(), "in the working directory"),
+                    match up {
+                        Some(rest) => (
+                            self.base.join(rest),
+                            "as its program, run one folder below the scene's, opens it",
+                        ),
+                        None => (p.to_path_buf(), ""),
+                    },
                 ]
             };
             for (path, found) in candidates {
@@ -129,7 +146,32 @@ impl<'p> Assets<'p> {
         diags: &mut Diags,
         add: &mut dyn FnMut(Texture) -> u32,
     ) -> Option<u32> {
-        let (path, found) = match self.resolve(name) {
+        self.texture_from(name, site, diags, add, false)
+    }
+
+    /// [`Assets::texture`] for the colon family, whose program opens names
+    /// from one folder below the scene's when they are not next to it (see
+    /// [`Assets::resolve_from`]).
+    pub fn texture_run_below(
+        &mut self,
+        name: &str,
+        site: Site,
+        diags: &mut Diags,
+        add: &mut dyn FnMut(Texture) -> u32,
+    ) -> Option<u32> {
+        self.texture_from(name, site, diags, add, true)
+    }
+
+    /// A texture, looked up as [`Assets::resolve_from`] with `below`.
+    fn texture_from(
+        &mut self,
+        name: &str,
+        site: Site,
+        diags: &mut Diags,
+        add: &mut dyn FnMut(Texture) -> u32,
+        below: bool,
+    ) -> Option<u32> {
+        let (path, found) = match self.resolve_from(name, below) {
             Ok(p) => p,
             Err(why) => {
                 Self::unusable("texture", name, &why, site, diags);

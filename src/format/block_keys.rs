@@ -15,9 +15,16 @@ pub(crate) struct BlockKeys<'d> {
     pub fields: Fields,
     /// Where its diagnostics go.
     pub diags: &'d mut Diags,
+    /// Whether its keys are written `key:` (the colon family's).
+    pub colon: bool,
 }
 
 impl BlockKeys<'_> {
+    /// Key `key` as the block writes it (`R=`, or `R:` in the colon family's), for messages.
+    pub fn key(&self, key: &str) -> String {
+        format!("{key}{}", if self.colon { ':' } else { '=' })
+    }
+
     /// `O=`, or the origin when absent.
     pub fn origin(&self) -> DVec3 {
         self.fields.v3("O").map_or(DVec3::ZERO, |(v, _)| v)
@@ -48,9 +55,10 @@ impl BlockKeys<'_> {
 
     fn missing(&mut self, key: &str, what: &str) {
         if !self.fields.failed(key) {
+            let k = self.key(key);
             self.diags.error(
                 self.header,
-                format!("a `{}` block needs `{key}=` ({what})", self.title),
+                format!("a `{}` block needs `{k}` ({what})", self.title),
                 None,
             );
         }
@@ -59,6 +67,11 @@ impl BlockKeys<'_> {
     /// A required radius > 0.
     pub fn radius(&mut self, key: &str) -> Option<f64> {
         self.positive(key, "the radius", "the radius")
+    }
+
+    /// A required height > 0 (the colon family's cylinders).
+    pub fn height(&mut self, key: &str) -> Option<f64> {
+        self.positive(key, "the height", "the height")
     }
 
     /// A required half-length > 0 (cubes).
@@ -72,9 +85,10 @@ impl BlockKeys<'_> {
         if x > 0.0 {
             Some(x)
         } else {
+            let k = self.key(key);
             self.diags.error(
                 site,
-                format!("{the} `{key}=` must be greater than 0, found {x}"),
+                format!("{the} `{k}` must be greater than 0, found {x}"),
                 None,
             );
             None
@@ -87,11 +101,9 @@ impl BlockKeys<'_> {
         if x >= 0.0 {
             Some(x)
         } else {
-            self.diags.error(
-                site,
-                format!("`{key}=` must not be negative, found {x}"),
-                None,
-            );
+            let k = self.key(key);
+            self.diags
+                .error(site, format!("`{k}` must not be negative, found {x}"), None);
             None
         }
     }
@@ -103,9 +115,10 @@ impl BlockKeys<'_> {
         if x <= max {
             Some((x, site))
         } else {
+            let k = self.key(key);
             self.diags.error(
                 site,
-                format!("`{key}=` is too large (at most {max}), found {x}"),
+                format!("`{k}` is too large (at most {max}), found {x}"),
                 None,
             );
             None
@@ -121,17 +134,18 @@ impl BlockKeys<'_> {
         if let Some(u) = unit(v) {
             return Some(u);
         }
+        let k = self.key(key);
         if textured {
             self.diags.error(
                 site,
-                format!("`{key}=` has zero length; the texture mapping needs a direction"),
+                format!("`{k}` has zero length; the texture mapping needs a direction"),
                 None,
             );
             None
         } else {
             self.diags.warn(
                 site,
-                format!("`{key}=` has zero length; ignored (only textures use it)"),
+                format!("`{k}` has zero length; ignored (only textures use it)"),
                 None,
             );
             Some(default)
@@ -147,17 +161,18 @@ impl BlockKeys<'_> {
         if unit(v).is_some() {
             return Some(Some(v));
         }
+        let k = self.key(key);
         if textured {
             self.diags.error(
                 site,
-                format!("`{key}=` has zero length; the plane's texture needs it"),
+                format!("`{k}` has zero length; the plane's texture needs it"),
                 None,
             );
             None
         } else {
             self.diags.warn(
                 site,
-                format!("`{key}=` has zero length; ignored (only textures use it)"),
+                format!("`{k}` has zero length; ignored (only textures use it)"),
                 None,
             );
             Some(None)
@@ -172,10 +187,11 @@ impl BlockKeys<'_> {
         let uy = dy.and_then(|(v, site)| self.nonzero(ky, v, site));
         let (ux, uy, (dx, _), (dy, site)) = (ux?, uy?, dx?, dy?);
         if parallel(ux, uy) {
+            let (x, y) = (self.key(kx), self.key(ky));
             self.diags.error(
                 site,
                 format!(
-                    "`{ky}=` is parallel to `{kx}=`; a `{}` needs two independent directions",
+                    "`{y}` is parallel to `{x}`; a `{}` needs two independent directions",
                     self.title
                 ),
                 None,
@@ -189,8 +205,9 @@ impl BlockKeys<'_> {
     pub fn nonzero(&mut self, key: &str, v: DVec3, site: Site) -> Option<DVec3> {
         let u = unit(v);
         if u.is_none() {
+            let k = self.key(key);
             self.diags
-                .error(site, format!("`{key}=` has zero length"), None);
+                .error(site, format!("`{k}` has zero length"), None);
         }
         u
     }

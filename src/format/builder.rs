@@ -9,10 +9,10 @@ use super::detect::Evidence;
 use super::diags::{Diags, Site};
 use super::lexer::Word;
 use super::schema::{BlockKind, Build, PrimitiveBuild, is_known_key};
-use super::setup;
 use super::suggest::closest;
 use super::values::{Entry, Fields, parse_entry};
-use crate::scene::{Dialect, DialectChoice, Light, MaterialId, Scene};
+use super::{colon, setup};
+use crate::scene::{Dialect, DialectChoice, Light, MaterialId, PhotonEmission, Scene};
 use glam::DVec3;
 use std::path::Path;
 
@@ -71,6 +71,9 @@ impl<'p> Builder<'p> {
         let mut scene = self.scene;
         self.evidence.adapt(choice.dialect, &mut scene);
         choice.caveat = caveat(choice.dialect, scene.camera().algorithm.as_deref());
+        if choice.dialect == Dialect::F {
+            choice.reason.push_str(&fractions(scene.camera()));
+        }
         let point = |l: &Light| matches!(l.kind, crate::scene::LightKind::Point { .. });
         if choice.dialect == Dialect::V && scene.lights().iter().any(point) {
             // V's reader has no point light: such a file is likelier PM3's,
@@ -114,19 +117,25 @@ impl<'p> Builder<'p> {
                 None if is_known_key(e.key) => diags.warn(
                     e.key_site,
                     format!(
-                        "`{}=` is not used by a `{}` block; ignored",
-                        e.key, kind.title
+                        "`{}` is not used by a `{}` block; ignored",
+                        e.written(),
+                        kind.title
                     ),
                     None,
                 ),
-                None => diags.warn(
-                    e.key_site,
-                    format!(
-                        "unknown key `{}=` in a `{}` block; ignored",
-                        e.key, kind.title
-                    ),
-                    closest(e.key, &kind.key_names()).map(|c| format!("did you mean `{c}=`?")),
-                ),
+                None => {
+                    let sep = if e.colon { ':' } else { '=' };
+                    diags.warn(
+                        e.key_site,
+                        format!(
+                            "unknown key `{}` in a `{}` block; ignored",
+                            e.written(),
+                            kind.title
+                        ),
+                        closest(e.key, &kind.key_names())
+                            .map(|c| format!("did you mean `{c}{sep}`?")),
+                    )
+                }
             }
         }
         match kind.title {
@@ -153,6 +162,7 @@ impl<'p> Builder<'p> {
             header,
             fields,
             diags,
+            colon: kind.colon,
         };
         match kind.build {
             Build::Background(build) => {
@@ -187,10 +197,11 @@ impl<'p> Builder<'p> {
             Some((c, _)) => c,
             None => {
                 if !b.fields.failed("color") {
+                    let k = b.key("color");
                     b.diags.warn(
                         b.header,
-                        "this light has no `color=`; it gives no light",
-                        Some("add e.g. `color= 1 1 1`".to_string()),
+                        format!("this light has no `{k}`; it gives no light"),
+                        Some(format!("add e.g. `{k} 1 1 1`")),
                     );
                 }
                 DVec3::ZERO
@@ -198,12 +209,18 @@ impl<'p> Builder<'p> {
         };
         let intensity = b.fields.v3("intensity").map_or(DVec3::ONE, |(v, _)| v);
         self.evidence.light(color * intensity);
+        let emission = if b.colon {
+            colon::emission(b)
+        } else {
+            PhotonEmission::default()
+        };
         if let Some(kind) = build(b)
             && b.diags.error_count() == errors
         {
             let index = self.scene.add_light(Light {
                 kind,
                 color: color * intensity,
+                emission,
             });
             self.scene.set_light_line(index, header_line(b.header));
         }
@@ -214,7 +231,11 @@ impl<'p> Builder<'p> {
     fn primitive(&mut self, build: PrimitiveBuild, index: u32, b: &mut BlockKeys<'_>) {
         let errors = b.diags.error_count();
         let scene = &mut self.scene;
-        let material = setup::material(&mut self.assets, b, &mut |t| scene.add_texture(t));
+        let material = if b.colon {
+            colon::material(&mut self.assets, b, &mut |t| scene.add_texture(t))
+        } else {
+            setup::material(&mut self.assets, b, &mut |t| scene.add_texture(t))
+        };
         let built = build(&mut self.assets, b, &mut |t| scene.add_texture(t));
         if b.diags.error_count() != errors {
             return;
@@ -258,6 +279,29 @@ fn caveat(d: Dialect, algorithm: Option<&str>) -> Option<String> {
         )),
         _ => None,
     }
+}
+
+/// What the framework's readers make of fractional qualities (they hold
+/// reals and count int(16·q) rays: F `src/camera.h`, `src/raytracer.cpp`;
+/// CUDA `Scene_Material.cu`), for its dialect line: empty when both are whole.
+fn fractions(cam: &crate::scene::Camera) -> String {
+    let mut said = String::new();
+    for (key, q, rays) in [
+        (
+            "shade_quality",
+            cam.shade_quality,
+            "shadow rays an area light",
+        ),
+        ("drefl_quality", cam.drefl_quality, "glossy rays"),
+    ] {
+        if q.fract() != 0.0 && q > 0.0 {
+            let n = ((16.0 * q) as u64).max(1);
+            said.push_str(&format!(
+                "; `{key}= {q}` read as a fraction, as the framework's readers do: {n} {rays} (int(16 × {q}))"
+            ));
+        }
+    }
+    said
 }
 
 /// The 1-based line of a site (a block's header, a key).

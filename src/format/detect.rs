@@ -24,6 +24,8 @@ const RESTING: f64 = 0.01;
 /// What the file shows of its lineage, as read so far (lines 0-based).
 #[derive(Debug, Default)]
 pub(crate) struct Evidence {
+    /// The first key written `key:` (the colon family's blocks).
+    colon: Option<usize>,
     /// An `object` header (W's blocks).
     object: Option<usize>,
     /// An `obj` header (abcbdf's blocks).
@@ -134,6 +136,11 @@ impl Evidence {
         }
     }
 
+    /// A block whose keys are written `key:`, the first at `line`.
+    pub fn colon(&mut self, line: usize) {
+        self.colon.get_or_insert(line);
+    }
+
     fn f_mark(&mut self, line: usize, what: String) {
         self.f_marker.get_or_insert((line, what));
     }
@@ -204,6 +211,15 @@ impl Evidence {
                 None,
             )
         };
+        if let Some(l) = self.colon {
+            return choice(
+                Dialect::Colon,
+                format!(
+                    "keys written `key:` (hta1996/Raytracing's reader) {}",
+                    at(l)
+                ),
+            );
+        }
         if let Some((l, what)) = &self.l17_marker {
             return choice(Dialect::L17, format!("{what} {}", at(*l)));
         }
@@ -307,11 +323,15 @@ impl Evidence {
     /// Gives the camera keys the file leaves unset dialect `d`'s defaults.
     fn camera_defaults(&self, d: Dialect, cam: &mut Camera) {
         let unset = |k: &str| !self.camera_keys.contains(&k);
+        if d == Dialect::Colon {
+            colon_photons(cam);
+            return;
+        }
         if !matches!(d, Dialect::Pm3 | Dialect::V) {
             return;
         }
         if unset("drefl_quality") {
-            cam.drefl_quality = 20;
+            cam.drefl_quality = 20.0;
         }
         let p = &mut cam.photons;
         for (key, slot, value) in [
@@ -377,13 +397,13 @@ impl Evidence {
             for shape in scene.shapes_mut() {
                 if let Shape::Plane(p) = shape {
                     p.offset = -p.offset;
-                    p.uv_shift = 0.5;
+                    p.uv_shift = glam::DVec2::splat(0.5);
                 }
             }
         }
         let (divisor, flipped) = match d {
             Dialect::F | Dialect::Z14 | Dialect::A18 => (256.0, false),
-            Dialect::Pm3 | Dialect::V | Dialect::L17 => (255.0, false),
+            Dialect::Pm3 | Dialect::V | Dialect::L17 | Dialect::Colon => (255.0, false),
             Dialect::W => (255.0, true),
         };
         for t in scene.textures_mut() {
@@ -393,4 +413,25 @@ impl Evidence {
             }
         }
     }
+}
+
+/// The colon family's PPM hit points at most: its program keeps them all,
+/// and its 960×540 `bar.txt` with its open lens (16 rays a pixel) makes
+/// more than the 4 million glint allows the others.
+const COLON_HIT_POINTS: u64 = 32_000_000;
+
+/// The colon family's progressive photon mapping, fixed in its program
+/// (hta1996/Raytracing `const.h`): a million photons a round, every hit
+/// point's first radius² 0.2, α = 2/3, 15000 rounds; it stores every
+/// photon's every hit (at most 10 each: glint's cap is that), and every
+/// hit point of its eye pass, 16 lens rays a pixel (glint's cap:
+/// [`COLON_HIT_POINTS`]).
+fn colon_photons(cam: &mut Camera) {
+    let p = &mut cam.photons;
+    p.max_hitpoints = Some(COLON_HIT_POINTS);
+    p.emit_photons = 1_000_000;
+    p.max_photons = 10_000_000;
+    p.sample_dist = 0.2f64.sqrt();
+    p.iterations = Some(15_000);
+    p.reduction = Some(2.0 / 3.0);
 }

@@ -13,6 +13,7 @@ mod assets;
 mod bezier_forms;
 mod block_keys;
 mod builder;
+mod colon;
 mod detect;
 mod diags;
 mod lexer;

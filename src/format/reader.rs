@@ -161,6 +161,9 @@ struct Open<'a> {
     values: Vec<Word<'a>>,
     /// Whether it is a `primitive` block (they are numbered when finished).
     primitive: bool,
+    /// The line of its first `key:` when its keys are written so (the
+    /// colon family's block, read by that family's row of the schema).
+    colon: Option<usize>,
 }
 
 /// A finished block's vectors, emptied, for the next block.
@@ -527,6 +530,7 @@ fn header<'a>(
         entries,
         values,
         primitive: matches!(first.text, "primitive" | "object" | "obj"),
+        colon: None,
     })
 }
 
@@ -576,6 +580,10 @@ fn read_line<'a>(block: &mut Open<'a>, i: usize, line: &Line<'a, '_>, diags: &mu
     let Some(first) = line.words.first() else {
         return;
     };
+    if let Some(key) = first.text.strip_suffix(':').filter(|k| !k.is_empty()) {
+        colon_line(block, key, i, line, diags);
+        return;
+    }
     let Some(kind) = block.kind else {
         // A skipped block: its keys only say what the block was.
         if let Some(eq) = first.text.find('=') {
@@ -585,6 +593,7 @@ fn read_line<'a>(block: &mut Open<'a>, i: usize, line: &Line<'a, '_>, diags: &mu
                 values: 0..0,
                 line: i,
                 raw: line.text,
+                colon: false,
             });
         }
         return;
@@ -633,6 +642,71 @@ fn read_line<'a>(block: &mut Open<'a>, i: usize, line: &Line<'a, '_>, diags: &mu
         values: start..block.values.len(),
         line: i,
         raw: line.text,
+        colon: block.colon.is_some(),
+    });
+}
+
+/// Reads a `key: values` line (the colon family's syntax). The block's
+/// first such key makes it that family's block, read by its row of the
+/// schema (hta1996/Raytracing `object.cpp`: `primitive`, `light`,
+/// `camera` and `background` blocks of `key:` lines).
+fn colon_line<'a>(
+    block: &mut Open<'a>,
+    key: &'a str,
+    i: usize,
+    line: &Line<'a, '_>,
+    diags: &mut Diags,
+) {
+    let Some(first) = line.words.first() else {
+        return;
+    };
+    let key_site = Site::word(i, first);
+    if block.colon.is_none() {
+        if !block.entries.is_empty() {
+            diags.warn(
+                key_site,
+                format!(
+                    "`{key}:` in a block of `key=` lines: only the colon family writes `key:`; ignored"
+                ),
+                Some(format!("did you mean `{key}=`?")),
+            );
+            return;
+        }
+        block.colon = Some(i);
+        block.kind = schema::colon_row(block.head, block.type_word);
+        if block.kind.is_none() {
+            let what = match block.type_word {
+                Some(t) => format!("{} {t}", block.head),
+                None => block.head.to_string(),
+            };
+            diags.warn(
+                block.header,
+                format!("the colon family (`key:` lines) has no `{what}` block; skipped"),
+                Some(format!(
+                    "its blocks are {}",
+                    schema::colon_titles()
+                        .iter()
+                        .map(|t| format!("`{t}`"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )),
+            );
+        }
+    }
+    if block.kind.is_none() {
+        return;
+    }
+    let start = block.values.len();
+    block
+        .values
+        .extend_from_slice(line.words.get(1..).unwrap_or(&[]));
+    block.entries.push(Entry {
+        key,
+        key_site,
+        values: start..block.values.len(),
+        line: i,
+        raw: line.text,
+        colon: true,
     });
 }
 
@@ -739,6 +813,9 @@ fn finish<'a>(mut block: Open<'a>, builder: &mut Builder<'_>, diags: &mut Diags)
         block.type_word,
         block.entries.iter().map(|e| e.key),
     );
+    if let Some(line) = block.colon {
+        builder.evidence.colon(line);
+    }
     match (block.kind, block.type_word) {
         (Some(kind), _) => builder.block(
             kind,
@@ -748,6 +825,7 @@ fn finish<'a>(mut block: Open<'a>, builder: &mut Builder<'_>, diags: &mut Diags)
             index,
             diags,
         ),
+        (None, Some(_)) if block.colon.is_some() => {}
         (None, Some(t)) => unknown_type(&block, t, diags),
         (None, None) => {}
     }

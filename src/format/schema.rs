@@ -5,7 +5,7 @@
 use super::assets::Assets;
 use super::block_keys::BlockKeys;
 use super::values::Kind::{self, Count, List, Num, OneOrThree, Text, TwoOrThree, Vec3};
-use super::{setup, shapes};
+use super::{colon, setup, shapes};
 use crate::scene::{Background, Camera, LightKind};
 
 /// A key's name (without `=`) and the shape of its values.
@@ -34,8 +34,8 @@ const CAMERA_KEYS: Keys = &[
     ("lens_H", Num),
     ("image_W", Count),
     ("image_H", Count),
-    ("shade_quality", Count),
-    ("drefl_quality", Count),
+    ("shade_quality", Num),
+    ("drefl_quality", Num),
     ("max_photons", Count),
     ("emit_photons", Count),
     ("sample_photons", Count),
@@ -130,6 +130,48 @@ const MESH_KEYS: Keys = &[
     ("rotation", Vec3),
 ];
 
+// The colon family's keys (hta1996/Raytracing `object.h`, `object.cpp`),
+// written `key:`.
+const COLON_MATERIAL_KEYS: Keys = &[
+    ("color", Vec3),
+    ("absor", Vec3),
+    ("refl", Num),
+    ("refr", Num),
+    ("diff", Num),
+    ("spec", Num),
+    ("rindex", Num),
+    ("texture", Text),
+];
+const COLON_BACKGROUND_KEYS: Keys = &[("ambientcolor", Vec3)];
+const COLON_CAMERA_KEYS: Keys = &[
+    ("eye", Vec3),
+    ("lookat", Vec3),
+    ("up", Vec3),
+    ("fovy", Num),
+    ("w", Count),
+    ("h", Count),
+    ("aperture", Num),
+    ("focal", Num),
+];
+const COLON_LIGHT_COMMON_KEYS: Keys = &[("color", Vec3), ("power", Num)];
+const COLON_AREA_LIGHT_KEYS: Keys = &[("O", Vec3), ("N", Vec3), ("Dx", Vec3), ("Dy", Vec3)];
+const COLON_SPHERE_KEYS: Keys = &[("O", Vec3), ("R", Num), ("Dx", Vec3), ("Dz", Vec3)];
+const COLON_PLANE_KEYS: Keys = &[
+    ("N", Vec3),
+    ("d", Num),
+    ("Do", Vec3),
+    ("Dx", Vec3),
+    ("Dy", Vec3),
+];
+const COLON_CYLINDER_KEYS: Keys = &[("O", Vec3), ("R", Num), ("H", Num), ("ang", Num)];
+const COLON_ROTATION_BODY_KEYS: Keys = &[
+    ("O", Vec3),
+    ("scale", Num),
+    ("ang", Num),
+    ("curve", List),
+    ("ratio", List),
+];
+
 /// What a block's function builds from its keys.
 #[derive(Clone, Copy)]
 pub(crate) enum Build {
@@ -157,6 +199,8 @@ pub(crate) struct Row {
     common: Keys,
     /// What builds it.
     pub build: Build,
+    /// Whether it is the colon family's block (`key:` lines, its defaults).
+    pub colon: bool,
 }
 
 /// What a block describes: its row of the schema.
@@ -169,6 +213,7 @@ pub(crate) static BACKGROUND: Row = Row {
     keys: BACKGROUND_KEYS,
     common: &[],
     build: Build::Background(setup::background),
+    colon: false,
 };
 
 /// The `camera` block.
@@ -178,6 +223,7 @@ pub(crate) static CAMERA: Row = Row {
     keys: CAMERA_KEYS,
     common: &[],
     build: Build::Camera(setup::camera),
+    colon: false,
 };
 
 /// The `light TYPE` blocks.
@@ -188,6 +234,7 @@ pub(crate) static LIGHTS: [Row; 4] = [
         keys: POINT_LIGHT_KEYS,
         common: LIGHT_COMMON_KEYS,
         build: Build::Light(setup::point_light),
+        colon: false,
     },
     Row {
         name: "square",
@@ -195,6 +242,7 @@ pub(crate) static LIGHTS: [Row; 4] = [
         keys: SQUARE_LIGHT_KEYS,
         common: LIGHT_COMMON_KEYS,
         build: Build::Light(setup::square_light),
+        colon: false,
     },
     Row {
         name: "sphere",
@@ -202,6 +250,7 @@ pub(crate) static LIGHTS: [Row; 4] = [
         keys: SPHERE_LIGHT_KEYS,
         common: LIGHT_COMMON_KEYS,
         build: Build::Light(setup::sphere_light),
+        colon: false,
     },
     // The lineages' name for the square light.
     Row {
@@ -210,6 +259,7 @@ pub(crate) static LIGHTS: [Row; 4] = [
         keys: SQUARE_LIGHT_KEYS,
         common: LIGHT_COMMON_KEYS,
         build: Build::Light(setup::square_light),
+        colon: false,
     },
 ];
 
@@ -230,6 +280,24 @@ const fn primitive(
         keys,
         common: MATERIAL_KEYS,
         build: Build::Primitive(build),
+        colon: false,
+    }
+}
+
+/// A colon-family `primitive TYPE` row.
+const fn colon_primitive(
+    name: &'static str,
+    title: &'static str,
+    keys: Keys,
+    build: PrimitiveBuild,
+) -> Row {
+    Row {
+        name,
+        title,
+        keys,
+        common: COLON_MATERIAL_KEYS,
+        build: Build::Primitive(build),
+        colon: true,
     }
 }
 
@@ -287,6 +355,90 @@ pub(crate) static PRIMITIVES: [Row; 15] = [
     primitive("tetra", "primitive tetra", TETRA_KEYS, shapes::tetra),
 ];
 
+/// The colon family's `background` block.
+static COLON_BACKGROUND: Row = Row {
+    name: "background",
+    title: "background",
+    keys: COLON_BACKGROUND_KEYS,
+    common: &[],
+    build: Build::Background(colon::background),
+    colon: true,
+};
+
+/// The colon family's `camera` block.
+static COLON_CAMERA: Row = Row {
+    name: "camera",
+    title: "camera",
+    keys: COLON_CAMERA_KEYS,
+    common: &[],
+    build: Build::Camera(colon::camera),
+    colon: true,
+};
+
+/// The colon family's `light TYPE` blocks.
+static COLON_LIGHTS: [Row; 2] = [
+    Row {
+        name: "point",
+        title: "light point",
+        keys: POINT_LIGHT_KEYS,
+        common: COLON_LIGHT_COMMON_KEYS,
+        build: Build::Light(setup::point_light),
+        colon: true,
+    },
+    Row {
+        name: "area",
+        title: "light area",
+        keys: COLON_AREA_LIGHT_KEYS,
+        common: COLON_LIGHT_COMMON_KEYS,
+        build: Build::Light(colon::area_light),
+        colon: true,
+    },
+];
+
+/// The colon family's `primitive TYPE` blocks.
+static COLON_PRIMITIVES: [Row; 4] = [
+    colon_primitive(
+        "sphere",
+        "primitive sphere",
+        COLON_SPHERE_KEYS,
+        colon::sphere,
+    ),
+    colon_primitive("plane", "primitive plane", COLON_PLANE_KEYS, colon::plane),
+    colon_primitive(
+        "cylinder",
+        "primitive cylinder",
+        COLON_CYLINDER_KEYS,
+        colon::cylinder,
+    ),
+    colon_primitive(
+        "rotationbody",
+        "primitive rotationbody",
+        COLON_ROTATION_BODY_KEYS,
+        colon::rotation_body,
+    ),
+];
+
+/// The colon family's row for a block opened by `head` (and type `kind`).
+pub(crate) fn colon_row(head: &str, kind: Option<&str>) -> Option<BlockKind> {
+    match (head, kind) {
+        ("background", _) => Some(&COLON_BACKGROUND),
+        ("camera", _) => Some(&COLON_CAMERA),
+        ("light", Some(t)) => find(&COLON_LIGHTS, t),
+        ("primitive", Some(t)) => find(&COLON_PRIMITIVES, t),
+        _ => None,
+    }
+}
+
+/// The colon family's block headers, for messages.
+pub(crate) fn colon_titles() -> Vec<&'static str> {
+    [&COLON_BACKGROUND, &COLON_CAMERA]
+        .into_iter()
+        .chain(&COLON_LIGHTS)
+        .chain(&COLON_PRIMITIVES)
+        .map(|r| r.title)
+        .collect()
+}
+
 /// The row of type `name` among `rows`.
 pub(crate) fn find(rows: &'static [Row], name: &str) -> Option<BlockKind> {
     rows.iter().find(|r| r.name == name)
@@ -319,7 +471,11 @@ impl Row {
 
 /// Whether some block kind uses `key`.
 pub(crate) fn is_known_key(key: &str) -> bool {
-    let rows = [&BACKGROUND, &CAMERA].into_iter();
-    let mut all = rows.chain(&LIGHTS).chain(&PRIMITIVES);
+    let rows = [&BACKGROUND, &CAMERA, &COLON_BACKGROUND, &COLON_CAMERA].into_iter();
+    let mut all = rows
+        .chain(&LIGHTS)
+        .chain(&PRIMITIVES)
+        .chain(&COLON_LIGHTS)
+        .chain(&COLON_PRIMITIVES);
     all.any(|r| r.lookup(key).is_some())
 }

@@ -11,7 +11,7 @@
 
 use super::assets::Assets;
 use super::block_keys::BlockKeys;
-use super::diags::When;
+use super::diags::{Site, When};
 use super::suggest::closest;
 use super::values::{Value, unit};
 use crate::scene::{Background, Camera, Dialect, LightKind, MAX_IMAGE_SIDE, Material, Texture};
@@ -90,8 +90,8 @@ pub(crate) fn camera(mut cam: Camera, b: &mut BlockKeys<'_>) -> Camera {
             }
         }
     }
-    // At most MAX_QUALITY (an error at the line); above SLOW_QUALITY a
-    // warning says what they cost (the rays, what they slow).
+    // Reals, as every lineage's camera holds them; at most MAX_QUALITY (an
+    // error at the line); above SLOW_QUALITY a warning says what they cost.
     let max_quality = f64::from(MAX_QUALITY);
     for (key, target, rays, what) in [
         (
@@ -107,19 +107,27 @@ pub(crate) fn camera(mut cam: Camera, b: &mut BlockKeys<'_>) -> Camera {
             "glossy reflections",
         ),
     ] {
-        let Some((x, site)) = b.count(key, max_quality) else {
+        let Some((quality, site)) = b.fields.num(key) else {
             continue;
         };
-        let quality = x as u32;
+        if quality < 0.0 {
+            let message = format!("`{key}=` must not be negative, found {quality}");
+            b.diags.error(site, message, None);
+            continue;
+        }
+        let Some((quality, site)) = b.count(key, max_quality) else {
+            continue;
+        };
         *target = quality;
-        if quality > SLOW_QUALITY {
+        if quality > f64::from(SLOW_QUALITY) {
             let message = format!(
                 "`{key}={quality}` means {} {rays} (the default, 4, means 64): \
                  a scene with {what} will render very slowly",
-                16 * u64::from(quality)
+                (16.0 * quality) as u64
             );
             b.diags.warn(site, message, None);
         }
+        fractional_quality(b, key, quality, site);
     }
     if let Some((x, _)) = b.count("dofSample", f64::from(u32::MAX)) {
         cam.dof.samples = x as u32;
@@ -198,6 +206,36 @@ pub(crate) fn camera(mut cam: Camera, b: &mut BlockKeys<'_>) -> Camera {
         }
     }
     cam
+}
+
+/// Warns where a quality that is not a whole number is read otherwise than
+/// as written: the framework's readers count int(16·q) rays (glint at least
+/// one), the relatives' dialects read it rounded, as before.
+fn fractional_quality(b: &mut BlockKeys<'_>, key: &str, quality: f64, site: Site) {
+    if quality.fract() == 0.0 {
+        return;
+    }
+    if quality < 1.0 / 16.0 {
+        b.diags.warn_when(
+            When::In(Dialect::F),
+            site,
+            format!(
+                "`{key}= {quality}`: int(16 × {quality}) = 0 rays, where the framework would \
+                 divide by zero; glint traces 1"
+            ),
+            None,
+        );
+    }
+    let whole = quality.round().max(1.0);
+    b.diags.warn_when(
+        When::NotIn(Dialect::F),
+        site,
+        format!(
+            "`{key}= {quality}` is read as {whole} in this dialect (only the framework's \
+             readers keep a fraction: int(16 × {quality}) rays)"
+        ),
+        Some(format!("write `{key}= {whole}`")),
+    );
 }
 
 /// `light point`: `O=`.

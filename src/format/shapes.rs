@@ -49,7 +49,7 @@ pub(crate) struct Built {
 
 impl Built {
     /// Shapes that all have the block's material.
-    fn of(shapes: Vec<Shape>) -> Shapes {
+    pub(crate) fn of(shapes: Vec<Shape>) -> Shapes {
         Some(Built {
             shapes,
             ..Built::default()
@@ -57,7 +57,7 @@ impl Built {
     }
 
     /// One shape with the block's material.
-    fn one(shape: Shape) -> Shapes {
+    pub(crate) fn one(shape: Shape) -> Shapes {
         Built::of(vec![shape])
     }
 

@@ -28,7 +28,8 @@ pub(crate) enum Kind {
     /// Two numbers or three (a bezier's `P=`: the framework's `z r`,
     /// lazycal's base point).
     TwoOrThree,
-    /// Any count of numbers, at least one (lazycal's `control_points=`).
+    /// Any count of numbers, at least one (lazycal's `control_points=`,
+    /// the colon family's `curve:` and `ratio:`).
     List,
     /// The rest of the line (a file name, a blur name).
     Text,
@@ -49,6 +50,16 @@ pub(crate) struct Entry<'a> {
     pub line: usize,
     /// The line's text (for values that are the rest of the line).
     pub raw: &'a str,
+    /// Whether it was written `key: values` (the colon family), its numbers
+    /// then read as C++'s `>>` reads them.
+    pub colon: bool,
+}
+
+impl Entry<'_> {
+    /// The key as written, with its `=` or `:`.
+    pub fn written(&self) -> String {
+        format!("{}{}", self.key, if self.colon { ':' } else { '=' })
+    }
 }
 
 /// A parsed value.
@@ -173,6 +184,64 @@ pub(crate) fn parse_number(s: &str) -> Result<f64, NumberError> {
     Ok(x)
 }
 
+/// The length in bytes of the longest prefix of `s` that C++'s `>>` into a
+/// double reads as a number (0 when none): `2.5.0` reads `2.5`, then `.0`.
+pub(crate) fn number_prefix(s: &str) -> usize {
+    let b = s.as_bytes();
+    let mut i = usize::from(matches!(b.first(), Some(b'+' | b'-')));
+    let digits = |i: &mut usize| {
+        let start = *i;
+        while b.get(*i).is_some_and(u8::is_ascii_digit) {
+            *i += 1;
+        }
+        *i - start
+    };
+    let mut mantissa = digits(&mut i);
+    if b.get(i) == Some(&b'.') {
+        i += 1;
+        mantissa += digits(&mut i);
+    }
+    if mantissa == 0 {
+        return 0;
+    }
+    let end = i;
+    if matches!(b.get(i), Some(b'e' | b'E')) {
+        i += 1;
+        if matches!(b.get(i), Some(b'+' | b'-')) {
+            i += 1;
+        }
+        if digits(&mut i) > 0 {
+            return i;
+        }
+    }
+    end
+}
+
+/// The words of a `key:` line as the colon family's reader takes them: a
+/// word holding several numbers (`2.5.000000`) is as many values, as C++'s
+/// `>>` reads them (a word that starts with no number stays whole).
+fn stream_words<'a>(values: &[Word<'a>]) -> Vec<Word<'a>> {
+    let mut out = Vec::with_capacity(values.len());
+    for w in values {
+        let mut rest = *w;
+        loop {
+            let n = number_prefix(rest.text);
+            if n == 0 || n == rest.text.len() {
+                out.push(rest);
+                break;
+            }
+            let chars = rest.text[..n].chars().count();
+            out.push(Word {
+                text: &rest.text[..n],
+                len: chars,
+                ..rest
+            });
+            rest = rest.split_off(chars);
+        }
+    }
+    out
+}
+
 /// What a kind of value looks like, for messages.
 fn describe(name: &str, kind: Kind) -> &'static str {
     match kind {
@@ -196,6 +265,26 @@ pub(crate) fn parse_entry(
     diags: &mut Diags,
 ) -> Option<Field> {
     let values = values.get(e.values.clone()).unwrap_or_default();
+    let split;
+    let values = if e.colon && kind != Text {
+        split = stream_words(values);
+        if split.len() != values.len() {
+            let (first, last) = (&values[0], &values[values.len() - 1]);
+            diags.warn(
+                Site::span(e.line, first, last),
+                format!(
+                    "`{}` holds numbers run together: read as {}, as its reader's `>>` reads them",
+                    e.written(),
+                    split.iter().map(|w| w.text).collect::<Vec<_>>().join(" ")
+                ),
+                None,
+            );
+        }
+        &split[..]
+    } else {
+        values
+    };
+    let key = e.written();
     let line = e.line;
     let site = match values.last() {
         Some(last) => Site {
@@ -209,7 +298,7 @@ pub(crate) fn parse_entry(
     let (Some(first), Some(last)) = (values.first(), values.last()) else {
         diags.error(
             e.key_site,
-            format!("`{}=` expects {what}, found nothing", e.key),
+            format!("`{key}` expects {what}, found nothing"),
             None,
         );
         return None;
@@ -232,7 +321,7 @@ pub(crate) fn parse_entry(
             match parse_number(w.text) {
                 Ok(x) => list.push(x),
                 Err(err) => {
-                    number_error(e.key, w, err, line, diags);
+                    number_error(&key, w, err, line, diags);
                     return None;
                 }
             }
@@ -256,7 +345,7 @@ pub(crate) fn parse_entry(
         let extra = &values[max];
         diags.warn(
             Site::span(line, extra, last),
-            format!("`{}=` takes {what}, found {n}: the rest is ignored", e.key),
+            format!("`{key}` takes {what}, found {n}: the rest is ignored"),
             None,
         );
     }
@@ -272,7 +361,7 @@ pub(crate) fn parse_entry(
             }
             Err(err) => {
                 ok = false;
-                number_error(e.key, w, err, line, diags);
+                number_error(&key, w, err, line, diags);
             }
         }
     }
@@ -286,10 +375,7 @@ pub(crate) fn parse_entry(
     } else {
         diags.warn(
             site,
-            format!(
-                "`{}=` takes {what}, found {n}: the missing ones read as 0",
-                e.key
-            ),
+            format!("`{key}` takes {what}, found {n}: the missing ones read as 0"),
             None,
         );
         counts.iter().copied().find(|&c| c > n).unwrap_or(max)
@@ -301,7 +387,7 @@ pub(crate) fn parse_entry(
             if x < 0.0 {
                 diags.error(
                     Site::word(line, first),
-                    format!("`{}=` must not be negative, found {x}", e.key),
+                    format!("`{key}` must not be negative, found {x}"),
                     None,
                 );
                 return None;
@@ -314,11 +400,11 @@ pub(crate) fn parse_entry(
                 diags.warn(
                     Site::word(line, first),
                     format!(
-                        "`{}= {}` is read as {x}; the lineages' readers read {theirs} \
+                        "`{key} {}` is read as {x}; the lineages' readers read {theirs} \
                          (they stop at the first character that is not a digit)",
-                        e.key, first.text
+                        first.text
                     ),
-                    Some(format!("write `{}= {x}`", e.key)),
+                    Some(format!("write `{key} {x}`")),
                 );
             }
             Value::Num(x)
@@ -334,10 +420,11 @@ pub(crate) fn parse_entry(
     Some(Field { name, value, site })
 }
 
-/// Reports word `w` after `key=`, which is not a usable number.
+/// Reports word `w` after `key` (as written, `key=` or `key:`), which is
+/// not a usable number.
 fn number_error(key: &str, w: &Word<'_>, err: NumberError, line: usize, diags: &mut Diags) {
     let message = match err {
-        NumberError::Malformed => format!("expected a number after `{key}=`, found `{}`", w.text),
+        NumberError::Malformed => format!("expected a number after `{key}`, found `{}`", w.text),
         NumberError::NotFinite => format!("`{}` is not a finite number", w.text),
         NumberError::TooLarge => {
             format!("`{}` is too large (numbers must lie within ±1e100)", w.text)

@@ -14,8 +14,9 @@ pub struct Plane {
     pub dx: DVec3,
     /// Texture axis: v = P·dy/|dy|².
     pub dy: DVec3,
-    /// Added to both texture coordinates (PM3 shifts its tiles by half).
-    pub uv_shift: f64,
+    /// Added to the texture coordinates (PM3 shifts its tiles by half; the
+    /// colon family measures them from a corner `Do:`).
+    pub uv_shift: DVec2,
 }
 
 impl Plane {
@@ -26,7 +27,7 @@ impl Plane {
             offset: r,
             dx,
             dy,
-            uv_shift: 0.0,
+            uv_shift: DVec2::ZERO,
         }
     }
 
@@ -57,9 +58,9 @@ impl Plane {
     /// The spec's plane mapping (tiles every |Dx| along Dx).
     pub fn uv(&self, p: DVec3) -> DVec2 {
         DVec2::new(
-            p.dot(self.dx) / self.dx.length_squared() + self.uv_shift,
-            p.dot(self.dy) / self.dy.length_squared() + self.uv_shift,
-        )
+            p.dot(self.dx) / self.dx.length_squared(),
+            p.dot(self.dy) / self.dy.length_squared(),
+        ) + self.uv_shift
     }
 }
 

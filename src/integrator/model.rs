@@ -17,6 +17,9 @@ pub(crate) enum Direct {
         /// Whether the eye-hit specular spec·(R_I·L)^50 is added.
         specular: bool,
     },
+    /// The colon family's: as `Centre`, with Phong's specular
+    /// spec·(R_I·L)^50 (an even power: its `pow` of a negative cosine).
+    Phong,
     /// lazycal's: the share of a fixed (2q+1)² grid of points over the
     /// light (q = `half`) that the point sees, times the light's colour over
     /// its mean; diffuse L·N and Blinn's specular (H·N)^50, L towards the
@@ -59,6 +62,27 @@ pub(crate) enum Inside {
     Parity,
 }
 
+/// How a surface that both reflects and refracts shares its light.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Split {
+    /// The reflected ray weighs colour × refl=, the refracted refr=.
+    Separate,
+    /// The colon family's (`raytracer.cpp` `rayTracing`): with both refl=
+    /// and refr= set, Fresnel's reflectance R splits it, colour × R and
+    /// 1 − R; total internal reflection weighs colour × (refl + refr).
+    Fresnel,
+}
+
+/// Where Beer absorption (`absor=`) is applied.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Absorb {
+    /// To the refracted ray leaving the inside, over its length inside.
+    Refracted,
+    /// To everything seen at a hit reached from inside, over the ray's
+    /// length (the colon family's).
+    AtHit,
+}
+
 /// What a camera ray sees of an emitter's surface.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Emitter {
@@ -91,6 +115,10 @@ pub(crate) enum AntiAlias {
     /// PM3's and V's: (c + the four rays ⅓ px away along each axis) / 5
     /// where the hash differs from a neighbour's.
     Cross5,
+    /// The colon family's: the mean of a 10×10 grid of step ⅕ px turned by
+    /// atan ½, the points within the pixel (`raytracer.cpp` `antiAliasing`),
+    /// where the hash differs from a neighbour's.
+    Rotated,
     /// One ray per pixel.
     None,
 }
@@ -104,6 +132,10 @@ pub(crate) enum Lens {
     Spanned,
     /// W's: N + Dy·2i/H + Dx·2j/W, i from the top, Dx the user's `Dx=`.
     Corner,
+    /// The colon family's: the framework's formula with the right-hand
+    /// direction unit(N × up) from its `up:`; an open lens focuses at
+    /// `focal:` along each ray (a sphere), not on a plane.
+    Hta,
 }
 
 /// One lineage's shading model.
@@ -121,10 +153,19 @@ pub(crate) struct Model {
     pub glossy: Glossy,
     /// Glossy rays per reflection.
     pub glossy_samples: u32,
+    /// Shadow rays per shading point towards an area light.
+    pub shadow_rays: u32,
     /// Whether every ray's colour is clamped to 1 (else the camera ray's only).
     pub clamp_every_ray: bool,
     /// A ray deeper than this returns black (the camera ray has depth 1).
     pub max_depth: u32,
+    /// A ray whose weight (the product of the refl=, refr= or Fresnel
+    /// shares that led to it) is below this is not traced.
+    pub min_weight: f64,
+    /// How reflection and refraction share a surface's light.
+    pub split: Split,
+    /// Where absorption is applied.
+    pub absorb: Absorb,
     /// The refraction side rule.
     pub inside: Inside,
     /// Whether `rindex=` ≤ 0 refracts with index 1 (the framework's fix of
@@ -165,16 +206,20 @@ impl Model {
 
     /// The model of dialect `d`, with `camera`'s quality keys (and V's `algorithm=`).
     pub fn of(d: Dialect, camera: &Camera) -> Model {
-        let dq = camera.drefl_quality.max(1);
+        let (sq, dq) = (camera.shade_quality, camera.drefl_quality);
         let f = Model {
             direct: Direct::Centre,
             ambient: Ambient::None,
             lit_by_specular: true,
             min_dot: 0.0,
             glossy: Glossy::Exp,
-            glossy_samples: 16 * dq,
+            glossy_samples: sixteenths(dq),
+            shadow_rays: sixteenths(sq),
             clamp_every_ray: true,
             max_depth: 10,
+            min_weight: 0.0,
+            split: Split::Separate,
+            absorb: Absorb::Refracted,
             inside: Inside::FrontFace,
             unit_index_fallback: true,
             tinted_reflection: true,
@@ -192,6 +237,8 @@ impl Model {
             ambient: Ambient::Diffuse,
             lit_by_specular: false,
             glossy: Glossy::Disk,
+            glossy_samples: 16 * whole(dq),
+            shadow_rays: 16 * whole(sq),
             clamp_every_ray: false,
             background_seen: false,
             ..f
@@ -205,7 +252,7 @@ impl Model {
                 ..lineage
             },
             Dialect::Pm3 | Dialect::V => Model {
-                glossy_samples: dq,
+                glossy_samples: whole(dq),
                 max_depth: 20,
                 inside: Inside::Parity,
                 emitter: Emitter::Normalised,
@@ -215,6 +262,8 @@ impl Model {
                 ..lineage
             },
             Dialect::W => Model {
+                glossy_samples: 16 * whole(dq),
+                shadow_rays: 16 * whole(sq),
                 unit_index_fallback: false,
                 ambient: Ambient::Diffuse,
                 min_dot: 1e-6,
@@ -229,6 +278,8 @@ impl Model {
             // The framework's ancestor (2015): W's light with the 2014
             // engine's glossy disk and a 3×3 anti-aliasing grid.
             Dialect::A18 => Model {
+                glossy_samples: 16 * whole(dq),
+                shadow_rays: 16 * whole(sq),
                 unit_index_fallback: false,
                 ambient: Ambient::Diffuse,
                 min_dot: 1e-6,
@@ -249,6 +300,43 @@ impl Model {
                 anti_alias: AntiAlias::Grid3,
                 ..f
             },
+            // hta1996/Raytracing `raytracer.cpp`, `object.h`, `const.h`.
+            Dialect::Colon => Model {
+                direct: Direct::Phong,
+                ambient: Ambient::Diffuse,
+                min_dot: 1e-6,
+                glossy: Glossy::Mirror,
+                shadow_rays: COLON_SHADOW_GRID * COLON_SHADOW_GRID,
+                clamp_every_ray: false,
+                max_depth: 20,
+                min_weight: 0.04,
+                split: Split::Fresnel,
+                absorb: Absorb::AtHit,
+                anti_alias: AntiAlias::Rotated,
+                lens: Lens::Hta,
+                ..f
+            },
         }
     }
+}
+
+/// The colon family's shadow rays to an area light: a jittered 5×5 grid
+/// (`const.h` `softShadowT`).
+const COLON_SHADOW_GRID: u32 = 5;
+
+/// The framework's ray count for a quality key: int(16·q), as both of its
+/// readers compute it from the real they read (F `src/raytracer.cpp`
+/// `CalnDiffusion`; CUDA `Scene_Material.cu`), at least one; 0 or less
+/// means the default minimum, 16.
+fn sixteenths(q: f64) -> u32 {
+    if q > 0.0 {
+        ((16.0 * q) as u32).max(1)
+    } else {
+        16
+    }
+}
+
+/// The relatives' reading of a quality key: a whole number (rounded), at least 1.
+fn whole(q: f64) -> u32 {
+    q.round().max(1.0) as u32
 }

@@ -1,5 +1,7 @@
 //! The pinhole cameras of the lineages: the framework's, PM3's and V's
-//! (the lens spans the outer pixels' centres), and W's (aimed at a corner).
+//! (the lens spans the outer pixels' centres), W's (aimed at a corner) and
+//! the colon family's (the framework's, turned by its `up:`), with their
+//! thin lenses.
 
 use crate::geometry::Ray;
 use crate::integrator::Lens;
@@ -29,6 +31,10 @@ struct ThinLens {
     right: DVec3,
     up: DVec3,
     focal: f64,
+    /// Whether the points in focus lie at `focal` along each ray (a
+    /// sphere about the eye: the colon family's) rather than on the plane
+    /// `focal` along N.
+    spherical: bool,
 }
 
 /// unit(N × ẑ), or x̂ when N is vertical: the framework's right-hand direction.
@@ -45,7 +51,7 @@ fn right_of(n: DVec3) -> DVec3 {
 pub(crate) fn basis(camera: &Camera, lens: Lens) -> (DVec3, DVec3) {
     let n = camera.dir;
     let right = match lens {
-        Lens::Corner => camera.right.unwrap_or_else(|| right_of(n)),
+        Lens::Corner | Lens::Hta => camera.right.unwrap_or_else(|| right_of(n)),
         Lens::Framework | Lens::Spanned => right_of(n),
     };
     (right, right.cross(n))
@@ -61,6 +67,7 @@ impl CameraRays {
             right: right * dof.aperture,
             up: up * dof.aperture,
             focal: dof.focal_len,
+            spherical: lens == Lens::Hta,
         });
         CameraRays {
             origin: camera.origin,
@@ -81,14 +88,19 @@ impl CameraRays {
 
     /// The ray from point (`lx`, `ly`) of the unit disc on the lens towards
     /// the point where the pinhole ray through image position (`i`, `j`)
-    /// meets the plane in focus (the pinhole ray without a lens).
+    /// meets the plane in focus, or the sphere of the colon family's lens
+    /// (the pinhole ray without a lens).
     #[inline]
     pub fn lens_ray(&self, i: f64, j: f64, (lx, ly): (f64, f64)) -> Ray {
         let d = self.direction(i, j);
         match self.thin_lens {
             Some(t) => {
                 // d·N = 1: O + d·focal lies on the plane in focus.
-                let focus = self.origin + d * t.focal;
+                let focus = if t.spherical {
+                    self.origin + d.normalize() * t.focal
+                } else {
+                    self.origin + d * t.focal
+                };
                 let from = self.origin + t.right * lx + t.up * ly;
                 Ray::new(from, (focus - from).normalize())
             }
@@ -111,6 +123,13 @@ impl CameraRays {
                 self.dir
                     + self.dy * (2.0 * i / self.height - 1.0)
                     + self.dx * (2.0 * j / self.width - 1.0)
+            }
+            // Its pixel k's centre is its integer k, rows from the top: half
+            // a pixel left of and above the framework's.
+            Lens::Hta => {
+                self.dir
+                    + self.dy * (2.0 * (i + 0.5) / self.height - 1.0)
+                    + self.dx * (2.0 * (j - 0.5) / self.width - 1.0)
             }
             // Pixel k's centre is the lineage's integer k: N + Dy·lens_H·(k/(H−1) − ½)...
             Lens::Spanned => {

@@ -195,7 +195,8 @@ impl Renderer {
             .map(|i| self.scene.light_line(i))
             .collect();
         let area = area_lines.len() as u64;
-        let per_area = 16 * u64::from(cam.shade_quality.max(1));
+        let model = crate::integrator::Model::of(self.scene.dialect().dialect, cam);
+        let per_area = u64::from(model.shadow_rays);
         let shadow = (lights.len() as u64 - area) + area * per_area;
         if area > 0 {
             // The area lights' headers too (the first few).
@@ -214,7 +215,6 @@ impl Renderer {
                 shadow_rays: per_area,
             });
         }
-        let model = crate::integrator::Model::of(self.scene.dialect().dialect, cam);
         let glossy = model.glossy != crate::integrator::Glossy::Mirror
             && self.scene.materials().any(|m| m.drefl > 0.0);
         let spread = if glossy {

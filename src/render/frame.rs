@@ -28,6 +28,23 @@ const _: () = assert!(
 /// of a pixel, in the order PM3 traces them.
 const CROSS: [(f64, f64); 4] = [(-1.0, 0.0), (0.0, -1.0), (0.0, 1.0), (1.0, 0.0)];
 
+/// The colon family's anti-aliasing rays, as offsets (right, down) from a
+/// pixel's centre: the 10×10 grid of step ⅕ over [−0.9, 0.9]², turned by
+/// atan ½, the points strictly within the pixel (hta1996/Raytracing
+/// `raytracer.cpp` `antiAliasing`, `const.h` `antiAliasingT` = 5).
+pub(crate) fn rotated_grid() -> impl Iterator<Item = (f64, f64)> {
+    const T: usize = 5;
+    let (s, c) = 0.5f64.atan().sin_cos();
+    (0..2 * T).flat_map(move |i| {
+        (0..2 * T).filter_map(move |j| {
+            let x = (i as f64 + 0.5) / T as f64 - 1.0;
+            let y = (j as f64 + 0.5) / T as f64 - 1.0;
+            let (dx, dy) = (x * c - y * s, x * s + y * c);
+            (dx.abs() < 0.5 && dy.abs() < 0.5).then_some((dx, dy))
+        })
+    })
+}
+
 /// The columns and rows of a tile of pixels.
 pub(crate) type Tile = (std::ops::Range<u32>, std::ops::Range<u32>);
 
@@ -151,24 +168,31 @@ impl<'a> Frame<'a> {
     }
 
     /// The camera rays pass 2 traces in a refined pixel: the 7×7 or 3×3
-    /// grid, or PM3's four rays ⅓ px away (none without anti-aliasing).
+    /// grid, PM3's four rays ⅓ px away or the colon family's turned grid
+    /// (none without anti-aliasing).
     pub fn refine_count(&self) -> usize {
         match self.anti_alias() {
             AntiAlias::Grid7 => (AA_GRID * AA_GRID) as usize,
             AntiAlias::Grid3 => (AA_GRID3 * AA_GRID3) as usize,
             AntiAlias::Cross5 => CROSS.len(),
+            AntiAlias::Rotated => rotated_grid().count(),
             AntiAlias::None => 0,
         }
     }
 
     /// Sample `k` of pass 2 in pixel (x, y): of the 7×7 or 3×3 grid (row by row),
-    /// or of PM3's four rays ⅓ px above, left, right and below the centre.
+    /// of PM3's four rays ⅓ px above, left, right and below the centre, or
+    /// of the colon family's turned grid.
     pub fn grid_sample(&self, x: u32, y: u32, k: usize) -> (Ray, PathState) {
         let (fx, fy) = match self.anti_alias() {
             AntiAlias::Cross5 => {
                 let (di, dj) = CROSS[k % CROSS.len()];
                 // Rows from the top here, the lineage's i from the bottom.
                 (0.5 + dj / 3.0, 0.5 - di / 3.0)
+            }
+            AntiAlias::Rotated => {
+                let (dx, dy) = rotated_grid().nth(k).unwrap_or_default();
+                (0.5 + dx, 0.5 + dy)
             }
             grid => {
                 let g = if grid == AntiAlias::Grid3 {

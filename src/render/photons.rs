@@ -8,8 +8,8 @@ use super::frame::Frame;
 use super::progress::Watch;
 use super::region::render_runs;
 use crate::integrator::photons::{
-    Brdf, HitPoint, HitPointObserver, HitPointSeed, PhotonGrid, PhotonMap, PhotonMode, Plan, Term,
-    gather, shoot, update_hit_point,
+    Brdf, FirstRadius, HitPoint, HitPointObserver, HitPointSeed, PhotonGrid, PhotonMap, PhotonMode,
+    Plan, Term, gather, shoot, update_hit_point,
 };
 use crate::integrator::{Model, RayCounts, SceneAccel, ShadowHints};
 use crate::sampling::strata;
@@ -217,10 +217,12 @@ fn ppm_hit_points(
         .flat_map(|d| &d.pixels)
         .map(|c| DVec3::from(glam::Vec3::from(*c)))
         .collect();
-    let (map, _) = photon_map(p.scene, p.accel, &model, plan, p.seed ^ 0x7072_656c);
-    points.par_iter_mut().for_each(|h| {
-        h.r2 = map.radius2(h.point, h.side).min(plan.radius * plan.radius);
-    });
+    if plan.first_radius == FirstRadius::Nearest {
+        let (map, _) = photon_map(p.scene, p.accel, &model, plan, p.seed ^ 0x7072_656c);
+        points.par_iter_mut().for_each(|h| {
+            h.r2 = map.radius2(h.point, h.side).min(plan.radius * plan.radius);
+        });
+    }
     Ok((direct, points))
 }
 
@@ -235,6 +237,7 @@ fn sppm_estimates(plan: &Plan, pixels: usize) -> Vec<HitPoint> {
                 diff: 0.0,
                 spec: 0.0,
                 mirror: DVec3::Z,
+                cosine: None,
             },
             weight: DVec3::ONE,
             r2: plan.radius * plan.radius,
@@ -485,15 +488,13 @@ fn hit_points(
             pixel,
             point: s.point,
             side: s.side,
-            brdf: Brdf {
+            brdf: {
+                let mut brdf = Brdf::of(plan.brdf, plan.specular, &s.material, s.mirror, s.side);
                 // lazycal's hit point weighs k/π, whatever its `diff=`.
-                diff: if plan.term == Term::Only {
-                    1.0
-                } else {
-                    s.material.diff
-                },
-                spec: if plan.specular { s.material.spec } else { 0.0 },
-                mirror: s.mirror,
+                if plan.term == Term::Only {
+                    brdf.diff = 1.0;
+                }
+                brdf
             },
             weight: s.throughput * model.albedo(&s.material, scene.textures(), s.uv),
             r2: plan.radius * plan.radius,

@@ -411,6 +411,8 @@ impl Renderer {
             no_direct: plan.mode != PhotonMode::Off
                 && matches!(plan.term, Term::Replace | Term::Only),
             specular: plan.specular,
+            brdf: plan.brdf,
+            no_ambient: plan.mode != PhotonMode::Off && !plan.ambient,
         }
     }
 

@@ -20,10 +20,11 @@ pub struct Camera {
     pub width: u32,
     /// Output height in pixels (`image_H=`).
     pub height: u32,
-    /// Area-light shadow rays per point = 16 × this (`shade_quality=`).
-    pub shade_quality: u32,
-    /// Glossy-reflection rays = 16 × this (`drefl_quality=`).
-    pub drefl_quality: u32,
+    /// Area-light shadow rays per point = 16 × this (`shade_quality=`), as
+    /// written: the framework's readers keep a fraction (`integrator::Model`).
+    pub shade_quality: f64,
+    /// Glossy-reflection rays = 16 × this (`drefl_quality=`), as written.
+    pub drefl_quality: f64,
     /// Photon-mapping settings (rendered by a later feature).
     pub photons: PhotonSettings,
     /// Depth of field (variants; rendered by a later feature).
@@ -43,8 +44,8 @@ impl Default for Camera {
             lens_h: 0.88,
             width: 420,
             height: 420,
-            shade_quality: 4,
-            drefl_quality: 4,
+            shade_quality: 4.0,
+            drefl_quality: 4.0,
             photons: PhotonSettings::default(),
             dof: DepthOfField::default(),
             right: None,

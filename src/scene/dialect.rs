@@ -26,11 +26,14 @@ pub enum Dialect {
     /// picture is the photon estimate alone; Béziers by axis, scale and
     /// control points.
     L17,
+    /// hta1996/Raytracing: `key:` lines, an eye–look-at camera with depth of
+    /// field, Phong highlights, Fresnel glass, surfaces of revolution.
+    Colon,
 }
 
 impl Dialect {
     /// Every dialect, in the order of the lineage table.
-    pub const ALL: [Dialect; 7] = [
+    pub const ALL: [Dialect; 8] = [
         Dialect::F,
         Dialect::Z14,
         Dialect::Pm3,
@@ -38,9 +41,10 @@ impl Dialect {
         Dialect::W,
         Dialect::A18,
         Dialect::L17,
+        Dialect::Colon,
     ];
 
-    /// Its short name (`f`, `z14`, `pm3`, `v`, `w`, `a18`, `l17`).
+    /// Its short name (`f`, `z14`, `pm3`, `v`, `w`, `a18`, `l17`, `colon`).
     pub fn name(self) -> &'static str {
         match self {
             Dialect::F => "f",
@@ -50,6 +54,7 @@ impl Dialect {
             Dialect::W => "w",
             Dialect::A18 => "a18",
             Dialect::L17 => "l17",
+            Dialect::Colon => "colon",
         }
     }
 
@@ -63,6 +68,7 @@ impl Dialect {
             Dialect::W => &["raytrace"],
             Dialect::A18 => &["abcbdf", "photon_mapping-bezier"],
             Dialect::L17 => &["lazycal", "progressive-photon-mapping"],
+            Dialect::Colon => &["hta1996", "hta"],
         }
     }
 

@@ -13,6 +13,21 @@ pub struct Light {
     pub kind: LightKind,
     /// Emitted colour, `intensity=` already multiplied in.
     pub color: DVec3,
+    /// How its photons leave it, where its lineage says more than the colour.
+    pub emission: PhotonEmission,
+}
+
+/// What the colon family's lights say of their photons (hta1996/Raytracing
+/// `ppm.cpp` `Photontracer::emit`, `object.h` `Arealight::emit`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PhotonEmission {
+    /// `power:`: the light's share of the photons, which carry
+    /// colour × power / (its photons); else the share follows the colour's
+    /// mean and each carries colour × 4π / (its photons).
+    pub power: Option<f64>,
+    /// `N:` of an area light: its photons leave on that side only,
+    /// cosine-weighted; else in every direction.
+    pub normal: Option<DVec3>,
 }
 
 impl Light {

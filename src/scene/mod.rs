@@ -19,7 +19,7 @@ pub use camera::{Camera, DepthOfField, MAX_IMAGE_SIDE, PhotonSettings};
 pub use diagnostic::{Diagnostic, SceneError, Severity};
 pub use dialect::{Dialect, DialectChoice};
 pub use escape::escaped;
-pub use light::{Light, LightKind};
+pub use light::{Light, LightKind, PhotonEmission};
 pub use material::Material;
 pub use object::{Object, Origin};
 pub use texture::Texture;

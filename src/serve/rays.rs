@@ -61,6 +61,7 @@ impl Projection {
         let (w, h) = (self.width, self.height);
         let [x, y] = match self.lens {
             Lens::Framework => [(b + 1.0) * w / 2.0, h - (a + 1.0) * h / 2.0],
+            Lens::Hta => [(b + 1.0) * w / 2.0 + 0.5, h + 0.5 - (a + 1.0) * h / 2.0],
             Lens::Spanned => {
                 let at = |t: f64, n: f64| (t / 2.0 + 0.5) * (n - 1.0).max(1.0) + 0.5;
                 [at(b, w), h - at(a, h)]
@@ -193,6 +194,9 @@ mod tests {
         let span = |k: f64, n: f64| 2.0 * ((k - 0.5) / (n - 1.0).max(1.0) - 0.5);
         match lens {
             Lens::Framework => c.dir + dy * (2.0 * i / h - 1.0) + dx * (2.0 * j / w - 1.0),
+            Lens::Hta => {
+                c.dir + dy * (2.0 * (i + 0.5) / h - 1.0) + dx * (2.0 * (j - 0.5) / w - 1.0)
+            }
             Lens::Spanned => c.dir + dy * span(i, h) + dx * span(j, w),
             Lens::Corner => c.dir + dy * (2.0 * (h - i) / h) + dx * (2.0 * j / w),
         }
@@ -208,7 +212,7 @@ mod tests {
             right: Some(DVec3::new(-1.0, 0.6, 0.1).normalize()),
             ..Camera::default()
         };
-        for lens in [Lens::Framework, Lens::Spanned, Lens::Corner] {
+        for lens in [Lens::Framework, Lens::Spanned, Lens::Corner, Lens::Hta] {
             let v = Projection::new(&c, lens, 128, 76);
             for (x, y) in [(0.5, 0.5), (64.5, 38.5), (127.5, 75.5), (10.5, 70.5)] {
                 let p = c.origin + ray(&c, lens, 128.0, 76.0, x, y).normalize() * 7.0;

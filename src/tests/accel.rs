@@ -855,6 +855,7 @@ fn scene_built_in_code_with_area_lights() {
                     radius: 0.5,
                 },
                 color: DVec3::ONE,
+                emission: Default::default(),
             });
         } else {
             scene.add_light(Light {
@@ -864,6 +865,7 @@ fn scene_built_in_code_with_area_lights() {
                     dy: DVec3::Y * 0.4,
                 },
                 color: DVec3::ONE,
+                emission: Default::default(),
             });
         }
     }

@@ -8,6 +8,7 @@ pub(crate) mod common;
 
 mod accel;
 mod bezier;
+mod colon;
 mod families;
 /// The geometry suite, one file per shape; its helpers serve the OBJ reader's tests too.
 pub(crate) mod geometry;

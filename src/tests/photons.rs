@@ -36,6 +36,7 @@ fn lambert() -> Brdf {
         diff: 1.0,
         spec: 0.0,
         mirror: DVec3::Z,
+        cosine: None,
     }
 }
 

@@ -130,7 +130,7 @@ impl PhotonArgs {
 /// `--dialect`, shared by every command that reads a scene.
 #[derive(Args)]
 pub struct DialectArg {
-    /// The lineage whose renderer's model draws the file: f, z14, pm3, v, w, a18 or l17
+    /// The lineage whose renderer's model draws the file: f, z14, pm3, v, w, a18, l17 or colon
     /// (or a repository's name) [default: chosen by the file's markers]
     #[arg(long)]
     pub dialect: Option<Dialect>,

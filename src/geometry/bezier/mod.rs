@@ -67,7 +67,7 @@ use glam::{DVec2, DVec3};
 use pieces::{Pieces, min_max};
 
 /// How a hit's texture coordinates are read off the surface.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub enum BezierUv {
     /// The spec's: u = the curve parameter s, v = the point's angle / 2π.
     #[default]
@@ -75,6 +75,15 @@ pub enum BezierUv {
     /// lazycal's: u = the profile point's angle / 2π (half a turn more
     /// where its radius is negative), v = s.
     Lazycal,
+    /// The colon family's: the spec's with u running from `start` to
+    /// `start + length` along the profile (a `rotationbody` gives each
+    /// curve its share, `ratio:`, of one picture).
+    Span {
+        /// u where the profile starts.
+        start: f64,
+        /// u's change along the whole profile.
+        length: f64,
+    },
 }
 
 /// The surface swept by rotating a Bézier profile (z along the axis from

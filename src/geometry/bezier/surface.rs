@@ -23,6 +23,7 @@ impl Bezier {
                 let negative = n > 0 && eval_d(&self.r, n, s.clamp(0.0, 1.0)).0 < 0.0;
                 DVec2::new(if negative { angle + 0.5 } else { angle }, s)
             }
+            BezierUv::Span { start, length } => DVec2::new(start + length * s, angle),
         };
         let normal = self.normal_at(hit.u, q);
         SurfacePoint {

@@ -2,9 +2,10 @@
 //! K-nearest estimate at a diffuse hit (`photon-mapping.md`, The estimate).
 
 use super::kdtree::{KdTree, Nearest};
-use super::plan::PhotonFilter;
+use super::plan::{PhotonBrdf, PhotonFilter};
 use super::trace::Photon;
 use super::units::MIN_GATHERED;
+use crate::scene::Material;
 use glam::DVec3;
 use std::cell::RefCell;
 use std::f64::consts::PI;
@@ -18,18 +19,46 @@ pub(crate) struct Brdf {
     pub spec: f64,
     /// The eye ray's mirror direction R_I.
     pub mirror: DVec3,
+    /// The unit normal facing the eye where diff is weighted by cos θ (the
+    /// colon family's BRDF), else `None`.
+    pub cosine: Option<DVec3>,
 }
 
 impl Brdf {
+    /// The weighting `kind` gives material `m` at a hit whose eye ray's
+    /// mirror direction is `mirror` and whose normal facing the eye is
+    /// `side` (with the specular lobe where `specular`).
+    pub fn of(kind: PhotonBrdf, specular: bool, m: &Material, mirror: DVec3, side: DVec3) -> Brdf {
+        let spec = if specular { m.spec } else { 0.0 };
+        match kind {
+            PhotonBrdf::Lobe => Brdf {
+                diff: m.diff,
+                spec,
+                mirror,
+                cosine: None,
+            },
+            PhotonBrdf::Phong => Brdf {
+                diff: m.diff * m.diff,
+                spec: m.diff * spec,
+                mirror,
+                cosine: Some(side),
+            },
+        }
+    }
+
     /// The weight of a photon that arrived travelling along `d`:
-    /// diff + spec·max(0, R_I·(−d))^50.
+    /// diff + spec·max(0, R_I·(−d))^50, with diff·cos θ where `cosine` says.
     #[inline]
     pub fn weight(&self, d: DVec3) -> f64 {
+        let diff = match self.cosine {
+            Some(n) => self.diff * (-d.dot(n)).max(0.0),
+            None => self.diff,
+        };
         let r = -self.mirror.dot(d);
         if self.spec > 0.0 && r > 0.0 {
-            self.diff + self.spec * r.powi(50)
+            diff + self.spec * r.powi(50)
         } else {
-            self.diff
+            diff
         }
     }
 }

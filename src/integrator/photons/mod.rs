@@ -14,8 +14,8 @@ mod units;
 
 pub(crate) use gather::PhotonGrid;
 pub(crate) use map::{Brdf, Gathered, PhotonMap};
+pub(crate) use plan::{FirstRadius, PhotonBrdf, Plan, Term};
 pub use plan::{PhotonFilter, PhotonMode, PhotonOptions};
-pub(crate) use plan::{Plan, Term};
 pub(crate) use points::{HitPointObserver, HitPointSeed};
 pub(crate) use progressive::{HitPoint, gather, update_hit_point};
 pub(crate) use trace::{Photon, shoot};

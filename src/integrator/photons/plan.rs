@@ -147,6 +147,29 @@ impl Term {
     }
 }
 
+/// How a gathered photon is weighted at a hit point.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) enum PhotonBrdf {
+    /// diff (+ the specular lobe where the plan has `specular`): the
+    /// photon spec's estimate.
+    #[default]
+    Lobe,
+    /// The colon family's `Material::BRDF`: diff·cos θ + spec·(R_I·L)^50,
+    /// times diff again (its hit point's colour carries diff: `ppm.cpp`
+    /// `calcIllumination`); a photon bounces diffusely with chance
+    /// (diff + spec)·P(k).
+    Phong,
+}
+
+/// Where a PPM hit point's radius starts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum FirstRadius {
+    /// The K-th nearest photon's distance in a preliminary map, at most R.
+    Nearest,
+    /// R for every hit point (the colon family's `initr2`).
+    Fixed,
+}
+
 /// A render's photon settings, resolved.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Plan {
@@ -173,6 +196,13 @@ pub(crate) struct Plan {
     pub specular: bool,
     /// The distance filter.
     pub filter: PhotonFilter,
+    /// Whether the ambient term stays when photons carry all diffuse light
+    /// ([`Term::Replace`]: Z14 keeps it, the colon family's PPM does not).
+    pub ambient: bool,
+    /// How gathered photons are weighted.
+    pub brdf: PhotonBrdf,
+    /// Where a PPM hit point's radius starts.
+    pub first_radius: FirstRadius,
 }
 
 impl Plan {
@@ -192,12 +222,15 @@ impl Plan {
                 // V's default `algorithm=` is SPPM (lineages.md §3.3).
                 _ => PhotonMode::Sppm,
             },
-            Dialect::F | Dialect::W | Dialect::A18 => PhotonMode::Off,
+            // Its program draws the ray-traced picture first, PPM's rounds
+            // after it (`ppm.cpp` `ppm::Run`): glint draws the first, and
+            // PPM with `--photons ppm`.
+            Dialect::F | Dialect::W | Dialect::A18 | Dialect::Colon => PhotonMode::Off,
             Dialect::L17 => PhotonMode::Ppm,
         };
         let mut mode = options.mode.unwrap_or(file_mode);
         let term = match dialect {
-            Dialect::Z14 => Term::Replace,
+            Dialect::Z14 | Dialect::Colon => Term::Replace,
             Dialect::Pm3 | Dialect::V => Term::Add { caustics: false },
             Dialect::F | Dialect::W | Dialect::A18 => Term::Add { caustics: true },
             Dialect::L17 => Term::Only,
@@ -216,10 +249,11 @@ impl Plan {
             && !scene
                 .lights()
                 .iter()
-                .any(|l| super::units::power(l.color) > 0.0)
+                .any(|l| super::units::power(l.color) > 0.0 && super::units::share(l) > 0.0)
         {
             notes.push(
-                "warning: no light has any power (colour sum ≤ 0): no photon pass".to_string(),
+                "warning: no light has any power (colour sum or `power:` ≤ 0): no photon pass"
+                    .to_string(),
             );
             mode = PhotonMode::Off;
         }
@@ -233,8 +267,19 @@ impl Plan {
             reduction: p.reduction.unwrap_or(0.7),
             max_hitpoints: p.max_hitpoints.unwrap_or(4_000_000),
             term,
-            specular: matches!(dialect, Dialect::Pm3 | Dialect::V),
+            specular: matches!(dialect, Dialect::Pm3 | Dialect::V | Dialect::Colon),
             filter: options.filter,
+            ambient: dialect != Dialect::Colon,
+            brdf: if dialect == Dialect::Colon {
+                PhotonBrdf::Phong
+            } else {
+                PhotonBrdf::Lobe
+            },
+            first_radius: if dialect == Dialect::Colon {
+                FirstRadius::Fixed
+            } else {
+                FirstRadius::Nearest
+            },
         };
         plan.note_unused(scene, file_mode, &mut notes);
         (plan, notes)

@@ -101,6 +101,7 @@ mod tests {
             diff: 0.7,
             spec: 0.4,
             mirror: DVec3::new(0.0, 0.3, 1.0).normalize(),
+            cosine: None,
         };
         let mut found = 0;
         for _ in 0..200 {

@@ -5,8 +5,8 @@
 //! from its own stream keyed by (seed, i, j), so a pass is the same
 //! whatever the threads.
 
-use super::plan::{Plan, Term};
-use super::units::{MAX_PHOTON_HITS, power};
+use super::plan::{PhotonBrdf, Plan, Term};
+use super::units::{MAX_PHOTON_HITS, power, share};
 use crate::geometry::perpendiculars;
 use crate::geometry::{Ray, offset_origin};
 use crate::integrator::model::{Glossy, Inside, Model};
@@ -53,17 +53,18 @@ pub(crate) struct PhotonPass {
 }
 
 /// Each emitting light's index and photon count (the counts add up to
-/// about `n`; lights with P(c) ≤ 0 get none).
+/// about `n`; lights with P(c) ≤ 0 or no power get none).
 pub(crate) fn shares(lights: &[Light], n: u64) -> Vec<(usize, u64)> {
-    let total: f64 = lights.iter().map(|l| power(l.color).max(0.0)).sum();
+    let emits = |l: &Light| power(l.color) > 0.0 && share(l) > 0.0;
+    let total: f64 = lights.iter().filter(|l| emits(l)).map(share).sum();
     if total <= 0.0 {
         return Vec::new();
     }
     lights
         .iter()
         .enumerate()
-        .filter(|(_, l)| power(l.color) > 0.0)
-        .map(|(i, l)| (i, (n as f64 * power(l.color) / total).round() as u64))
+        .filter(|(_, l)| emits(l))
+        .map(|(i, l)| (i, (n as f64 * share(l) / total).round() as u64))
         .filter(|&(_, k)| k > 0)
         .collect()
 }
@@ -161,7 +162,12 @@ impl Tracer<'_> {
     fn trace(&self, l: usize, n: u64, rng: &mut Pcg32, out: &mut Vec<Photon>) -> u64 {
         let light = &self.scene.lights()[l];
         let (origin, dir) = emit(light, rng);
-        let mut flux = self.plan.term.photon_power(light.color, n);
+        // The colon family's photons carry c·power/n (`ppm.cpp`
+        // `Photontracer::emit`).
+        let mut flux = match light.emission.power {
+            Some(p) => light.color * (p / n.max(1) as f64),
+            None => self.plan.term.photon_power(light.color, n),
+        };
         let mut ray = Ray::new(origin, dir);
         let (mut bounces, mut inside, mut hits) = (0u32, false, 0u32);
         // A light's own surface is passed through: a few times at most.
@@ -231,6 +237,10 @@ impl Tracer<'_> {
                 (m.refl, m.refr)
             } else {
                 (0.0, 0.0)
+            };
+            let diffuse = match self.plan.brdf {
+                PhotonBrdf::Lobe => diffuse,
+                PhotonBrdf::Phong => m.diff + m.spec,
             };
             let mut p = [
                 diffuse * power(k),
@@ -312,7 +322,11 @@ fn emit(light: &Light, rng: &mut Pcg32) -> (DVec3, DVec3) {
                 2.0 * rng.random::<f64>() - 1.0,
                 2.0 * rng.random::<f64>() - 1.0,
             );
-            (center + dx * a + dy * b, sphere_direction(rng))
+            let dir = match light.emission.normal {
+                Some(n) => cosine_direction(n, rng),
+                None => sphere_direction(rng),
+            };
+            (center + dx * a + dy * b, dir)
         }
         LightKind::Sphere { center, radius } => {
             let n = sphere_direction(rng);

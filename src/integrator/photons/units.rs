@@ -1,5 +1,7 @@
 //! The photons' measure of power and the limits of their paths and gathers.
 
+use crate::scene::Light;
+
 /// The most hits a photon makes (`photon-mapping.md`, Tracing).
 pub(crate) const MAX_PHOTON_HITS: u32 = 10;
 
@@ -10,4 +12,10 @@ pub(crate) const MIN_GATHERED: usize = 8;
 #[inline]
 pub(crate) fn power(c: glam::DVec3) -> f64 {
     (c.x + c.y + c.z) / 3.0
+}
+
+/// A light's weight in the share of the photons: its `power:` where the
+/// file gives one (the colon family's), else P(c).
+pub(crate) fn share(l: &Light) -> f64 {
+    l.emission.power.unwrap_or_else(|| power(l.color))
 }

@@ -55,7 +55,7 @@ impl Whitted<'_> {
             };
             let weight = match self.model.direct {
                 Direct::Falloff { .. } => Some(self.falloff_light(ray, p, &to, &from, seen, cx)),
-                Direct::Centre => self.centre_light(p, &to, &from, seen, cx),
+                Direct::Centre | Direct::Phong => self.centre_light(ray, p, &to, &from, seen, cx),
                 Direct::Grid { half } => self.grid_light(ray, p, &to, &from, half, seen, cx),
             };
             if let Some(w) = weight {
@@ -121,12 +121,14 @@ impl Whitted<'_> {
         e
     }
 
-    /// The framework's term of light `to` at `p`: (diff·L·N + spec·(L·N)^20)
-    /// times the shade factor, where L·N passes the model's threshold and
-    /// some shadow ray gets through (`None` elsewhere).
+    /// The framework's term of light `to` at `p` (hit by `ray`):
+    /// (diff·L·N + spec·(L·N)^20) times the shade factor, where L·N passes
+    /// the model's threshold and some shadow ray gets through (`None`
+    /// elsewhere); the colon family's highlight is spec·(R_I·L)^50.
     #[inline(always)]
     fn centre_light<O: PathObserver>(
         &self,
+        ray: &Ray,
         p: &ShadingPoint,
         to: &ShadowRays,
         from: &ShadowFrom,
@@ -149,7 +151,14 @@ impl Whitted<'_> {
             cx.obs.point_light(to.index);
         }
         let m = &p.material;
-        (seen.diffuse, seen.specular) = (m.diff * d * s, m.spec * d.powi(20) * s);
+        let highlight = match self.model.direct {
+            Direct::Phong => {
+                let l = (to.light.center() - p.point).normalize_or_zero();
+                reflect(ray.dir, p.n).dot(l).powi(50)
+            }
+            _ => d.powi(20),
+        };
+        (seen.diffuse, seen.specular) = (m.diff * d * s, m.spec * highlight * s);
         cx.obs.light(&seen);
         Some(seen.diffuse + seen.specular)
     }

@@ -20,12 +20,13 @@ impl Whitted<'_> {
         k: DVec3,
         obs: &mut O,
     ) -> DVec3 {
-        let m = &p.material;
-        let brdf = Brdf {
-            diff: m.diff,
-            spec: if self.photons.specular { m.spec } else { 0.0 },
-            mirror: reflect(ray.dir, p.n),
-        };
+        let brdf = Brdf::of(
+            self.photons.brdf,
+            self.photons.specular,
+            &p.material,
+            reflect(ray.dir, p.n),
+            p.side,
+        );
         let gathered = map.estimate(p.point, p.side, &brdf);
         let term = k * gathered.value;
         obs.photons(&gathered, term);

@@ -13,15 +13,16 @@
 
 mod direct;
 mod emitted;
+mod fresnel;
 mod gather;
 mod reflected;
 mod refracted;
 mod surface;
 
-use super::model::{Ambient, Model};
+use super::model::{Absorb, Ambient, Model, Split};
 use super::observer::{PathObserver, RayKind, SurfaceSeen};
 use super::path::{PathState, SceneAccel};
-use super::photons::PhotonMap;
+use super::photons::{PhotonBrdf, PhotonMap};
 use super::visibility::ShadowHints;
 use crate::accel::PACKET_MAX;
 use crate::geometry::{Hit, Ray};
@@ -38,6 +39,11 @@ pub(crate) struct PhotonShading<'a> {
     pub no_direct: bool,
     /// Whether gathered photons carry the lineage's specular lobe.
     pub specular: bool,
+    /// How gathered photons are weighted.
+    pub brdf: PhotonBrdf,
+    /// Whether the ambient term is left out too (the colon family's PPM:
+    /// its eye pass shades nothing but the photons).
+    pub no_ambient: bool,
 }
 
 /// What a camera sample's tree of rays carries through the tracer: its
@@ -52,12 +58,14 @@ pub(crate) struct PathContext<'p, O> {
     pub hints: &'p mut ShadowHints,
 }
 
-/// Where a ray is in its tree: its depth (the camera ray's is 1) and the
-/// lineages' refraction flag (whether it is inside a refracting object).
+/// Where a ray is in its tree: its depth (the camera ray's is 1), the
+/// lineages' refraction flag (whether it is inside a refracting object)
+/// and the colon family's weight (the product of the shares that led to it).
 #[derive(Clone, Copy)]
 struct Bounce {
     depth: u32,
     inside: bool,
+    weight: f64,
 }
 
 impl Bounce {
@@ -65,6 +73,7 @@ impl Bounce {
     const CAMERA: Bounce = Bounce {
         depth: 1,
         inside: false,
+        weight: 1.0,
     };
 }
 
@@ -87,11 +96,12 @@ impl<'a> Whitted<'a> {
         accel: &'a SceneAccel,
         photons: PhotonShading<'a>,
     ) -> Self {
+        let model = Model::of(scene.dialect().dialect, camera);
         Whitted {
             scene,
             accel,
-            shadow_samples: 16 * camera.shade_quality.max(1),
-            model: Model::of(scene.dialect().dialect, camera),
+            shadow_samples: model.shadow_rays,
+            model,
             photons,
         }
     }
@@ -216,7 +226,7 @@ impl<'a> Whitted<'a> {
         }
         if lit {
             let k = model.albedo(m, scene.textures(), p.uv);
-            if model.ambient == Ambient::Diffuse {
+            if model.ambient == Ambient::Diffuse && !self.photons.no_ambient {
                 color += k * m.diff * scene.background().ambient();
             }
             self.direct(ray, &p, k, &mut color, cx);
@@ -226,11 +236,19 @@ impl<'a> Whitted<'a> {
                 color += self.gather(map, ray, &p, k, cx.obs);
             }
         }
-        if let Some(c) = self.reflected(ray, &p, at, cx) {
-            color += c;
+        match model.split {
+            Split::Separate => {
+                if let Some(c) = self.reflected(ray, &p, at, cx) {
+                    color += c;
+                }
+                if let Some(c) = self.refracted(ray, &p, at, cx) {
+                    color += c;
+                }
+            }
+            Split::Fresnel => color += self.fresnel(ray, &p, at, cx),
         }
-        if let Some(c) = self.refracted(ray, &p, at, cx) {
-            color += c;
+        if model.absorb == Absorb::AtHit && !p.front {
+            color *= (-m.absor * p.t).exp();
         }
         cx.obs.shaded(color);
         self.clamp(color, at.depth)

@@ -53,7 +53,7 @@ impl Whitted<'_> {
         };
         let next = Bounce {
             depth: reflected_depth,
-            inside: at.inside,
+            ..at
         };
         if !glossy {
             cx.st.rays.reflected += 1;
@@ -65,7 +65,6 @@ impl Whitted<'_> {
         }
         let samples = match model.glossy {
             Glossy::Exp if depth > GLOSSY_AVERAGE_DEPTH => 1,
-            Glossy::Exp => 16 * self.scene.camera().drefl_quality.max(1),
             _ => model.glossy_samples,
         };
         let (a1, a2) = perpendiculars(mirror);

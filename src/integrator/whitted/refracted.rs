@@ -4,7 +4,7 @@
 use super::surface::ShadingPoint;
 use super::{Bounce, PathContext, Whitted};
 use crate::geometry::{Ray, offset_origin};
-use crate::integrator::model::Inside;
+use crate::integrator::model::{Absorb, Inside};
 use crate::integrator::observer::{PathObserver, RayKind};
 use crate::integrator::optics::{reflect, refract};
 use glam::DVec3;
@@ -61,9 +61,10 @@ impl Whitted<'_> {
         let next = Bounce {
             depth: depth + 1,
             inside,
+            ..at
         };
         let c = self.trace(&ray, next, cx);
-        let weight = if within {
+        let weight = if within && model.absorb == Absorb::Refracted {
             (-m.absor * p.t).exp() * refr
         } else {
             DVec3::splat(refr)

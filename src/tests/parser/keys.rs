@@ -33,7 +33,7 @@ end
     assert!(close(c.dir, v(0.0, 0.6, 0.8)), "{:?}", c.dir);
     assert_eq!((c.lens_w, c.lens_h), (1.5, 0.75));
     assert_eq!((c.width, c.height), (640, 480));
-    assert_eq!((c.shade_quality, c.drefl_quality), (2, 3));
+    assert_eq!((c.shade_quality, c.drefl_quality), (2.0, 3.0));
     assert_eq!(c.photons.max_photons, 5000);
     assert_eq!(c.photons.emit_photons, 4000);
     assert_eq!(c.photons.sample_photons, 50);
@@ -56,7 +56,7 @@ fn camera_defaults_match_the_spec() {
         (c.lens_w, c.lens_h, c.width, c.height),
         (0.88, 0.88, 420, 420)
     );
-    assert_eq!((c.shade_quality, c.drefl_quality), (4, 4));
+    assert_eq!((c.shade_quality, c.drefl_quality), (4.0, 4.0));
     assert_eq!(
         (
             c.photons.max_photons,

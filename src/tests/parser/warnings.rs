@@ -106,5 +106,5 @@ fn sample_counts_far_above_the_default_warn_at_the_key() {
         assert!(d.message.contains("16384"), "{d}");
     }
     let s = ok("camera\n shade_quality= 65\nend");
-    assert_eq!(s.camera().shade_quality, 65, "the value is kept");
+    assert_eq!(s.camera().shade_quality, 65.0, "the value is kept");
 }
