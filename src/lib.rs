@@ -58,10 +58,10 @@ pub use output::{
 };
 pub use probe::{MAX_RAY_ERRORS, ProbeHit, RayError, RaysError, parse_ray, read_rays};
 pub use render::{
-    Aov, AovImage, AssembleError, CameraKey, Checkpoint, Control, Driver, Explanation, Film,
-    HitPointTerm, LIGHT_AOVS_MAX, MAX_EXPLAINED_SPP, MAX_THREADS, MAX_TILES, PhotonStats,
-    ProgressiveTerm, Region, RenderError, RenderOptions, RenderStats, Renderer, Sampling, Stage,
-    TILE_BAND, Tile, WorkEstimate,
+    Aov, AovImage, AssembleError, CameraKey, Checkpoint, Control, Driver, Encoding, Explanation,
+    Film, Fit, HitPointTerm, LIGHT_AOVS_MAX, MAX_EXPLAINED_SPP, MAX_THREADS, MAX_TILES, MemoryNeed,
+    PhotonStats, ProgressiveTerm, Region, RenderError, RenderOptions, RenderStats, Renderer,
+    Sampling, Stage, TILE_BAND, Tile, WorkEstimate,
 };
 pub use scene::{Dialect, DialectChoice, Scene, SceneError};
 

@@ -3,6 +3,7 @@
 
 use super::atomic::write_atomically;
 use crate::image::Image;
+use crate::render::Encoding;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 
@@ -41,6 +42,23 @@ pub enum Format {
 }
 
 impl Format {
+    /// What writing a picture (and its AOVs) in this format takes a pixel,
+    /// beside the film (measured, film included, at 2400×1800 and 600×450:
+    /// .png 20 B a pixel and 4 B an AOV channel, .exr 35 B and 10.5 B).
+    pub fn encoding(self) -> Encoding {
+        match self {
+            Format::Png | Format::Bmp => Encoding {
+                pixel: 8,
+                channel: 2,
+            },
+            Format::Hdr => Encoding {
+                pixel: 16,
+                channel: 4,
+            },
+            Format::Exr => Encoding::LARGEST,
+        }
+    }
+
     /// The format for a path's extension (case-insensitive).
     pub fn from_path(path: &Path) -> Result<Format, SaveError> {
         let ext = path

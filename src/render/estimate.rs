@@ -1,6 +1,7 @@
 //! A render's cost before it runs: the rays it will trace, roughly, and the
 //! settings that drive that count (to warn about a render that will take long).
 
+use super::key::CameraKey;
 use super::{RenderError, RenderOptions, Renderer};
 use crate::integrator::photons::{PhotonMode, Plan};
 use crate::scene::LightKind;
@@ -20,18 +21,6 @@ pub struct WorkEstimate {
     pub rays: u64,
     /// The settings that drive the count: image size, samples, qualities.
     pub drivers: Vec<Driver>,
-}
-
-/// A camera key that drives a render's cost: its name, its value and,
-/// when the scene was read from a file, where (`scene.txt:12`).
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct CameraKey {
-    /// The key's name (`shade_quality`).
-    pub name: &'static str,
-    /// Its value, as written back.
-    pub value: String,
-    /// `FILE:LINE` of the key, when the file sets it.
-    pub at: Option<String>,
 }
 
 /// A setting that drives a render's cost; shown as the estimate's warning says it.
@@ -77,15 +66,6 @@ pub enum Driver {
         /// The keys that set them, where the file does.
         keys: Vec<CameraKey>,
     },
-}
-
-impl fmt::Display for CameraKey {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if let Some(at) = &self.at {
-            write!(f, "{at} ")?;
-        }
-        write!(f, "`{}={}`", self.name, self.value)
-    }
 }
 
 /// ` (a, b, c)`, or nothing when `items` is empty.
@@ -144,6 +124,22 @@ impl fmt::Display for Driver {
 }
 
 impl Renderer {
+    /// The camera key `name` with `value`, and where the file sets it.
+    pub(super) fn camera_key(&self, name: &'static str, value: &dyn fmt::Display) -> CameraKey {
+        let at = self.scene.camera_key_line(name).map(|l| {
+            let file = self.scene.path().map_or_else(
+                || "<input>".to_string(),
+                |p| crate::scene::escaped(&p.display().to_string()).into_owned(),
+            );
+            format!("{file}:{l}")
+        });
+        CameraKey {
+            name,
+            value: value.to_string(),
+            at,
+        }
+    }
+
     /// A rough count of the rays a render of `options` traces, before any
     /// is: camera samples × (1 + shadow rays a point) × glossy rays, with the
     /// settings that drive it, to warn about a render that will take long.
@@ -157,11 +153,7 @@ impl Renderer {
             |p| crate::scene::escaped(&p.display().to_string()).into_owned(),
         );
         let place = |line: Option<u32>| line.map(|l| format!("{file}:{l}"));
-        let key = |name: &'static str, value: &dyn fmt::Display| CameraKey {
-            name,
-            value: value.to_string(),
-            at: place(self.scene.camera_key_line(name)),
-        };
+        let key = |name: &'static str, value: &dyn fmt::Display| self.camera_key(name, value);
         // The key, only where the file sets it.
         let file_key = |name: &'static str, value: &dyn fmt::Display| {
             Some(key(name, value)).filter(|k| k.at.is_some())

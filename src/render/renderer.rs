@@ -6,14 +6,15 @@ use super::aov::Aov;
 use super::buffers::{Keep, Rendered};
 use super::film::{Film, Region};
 use super::frame::Frame;
+use super::memory::{Load, MemoryNeed};
 use super::progress::Watch;
 use super::region::render_runs;
 use super::shading_aovs::{LIGHT_AOVS_MAX, ShadingAovs};
 use super::tile::Tile;
 use super::{Control, PhotonStats, RenderError, RenderOptions, RenderStats, Stage};
-use super::{memory, photons, schedule};
+use super::{photons, schedule};
 use crate::image::Image;
-use crate::integrator::photons::{PhotonMap, PhotonMode, Plan, Term};
+use crate::integrator::photons::{PhotonMap, PhotonMode, Plan, Term, stored_per_emitted};
 use crate::integrator::{Integrator, Model, PhotonShading, RayCounts, SceneAccel};
 use crate::scene::{Camera, MAX_IMAGE_SIDE, Scene};
 use std::time::{Duration, Instant};
@@ -416,16 +417,48 @@ impl Renderer {
         }
     }
 
-    /// An upper bound of the bytes a render of `options` takes on top of
-    /// what the process holds before it, for every output format, sampling
-    /// mode, pass and photon algorithm (photons and hit points bounded by
-    /// their keys).
-    pub fn memory_needed(&self, options: &RenderOptions) -> Result<u64, RenderError> {
+    /// The bytes a render of `options` takes on top of what the process
+    /// holds before it, an estimate a little above the peak for every
+    /// output format, sampling mode, pass and photon algorithm, and what
+    /// drives it. With photons it first traces a sample of them (and PPM's
+    /// and SPPM's eye pass over a sample of pixels) to measure how many a
+    /// pass stores (and how many hit points a pixel holds).
+    pub fn memory_needed(&self, options: &RenderOptions) -> Result<MemoryNeed, RenderError> {
+        let (w, h) = self.frame_size(options)?;
         let pixels = self.pixels(options)?;
         let threads = schedule::workers(options.threads) as u64;
         let channels = options.aovs.iter().map(|a| a.channels() as u64).sum();
         let plan = Plan::of(&self.scene, &options.photons).0;
-        Ok(memory::memory_needed(pixels, threads, channels, &plan))
+        let mut load = Load::new(pixels, threads, channels, &plan);
+        if plan.mode != PhotonMode::Off {
+            let model = Model::of(self.scene.dialect().dialect, self.scene.camera());
+            load.stored_per_emitted = schedule::with_threads(options.threads, || {
+                stored_per_emitted(&self.scene, &self.accel, &model, &plan, options.seed)
+            });
+        }
+        if plan.mode.progressive() {
+            let (spp, frame) = self.sampled_frame(w, h, options, PhotonShading::default());
+            let region = self.region(options, (w, h))?;
+            let runs = match options.tile {
+                Some(tile) => tile.runs(region),
+                None => vec![region],
+            };
+            load.hit_points_per_pixel = schedule::with_threads(options.threads, || {
+                photons::hit_points_per_pixel(&frame, &runs, spp, plan.mode)
+            });
+        }
+        let p = &self.scene.camera().photons;
+        let file_key = |name: &'static str, value: &dyn std::fmt::Display| {
+            Some(self.camera_key(name, value)).filter(|k| k.at.is_some())
+        };
+        Ok(MemoryNeed {
+            bytes: load.bytes(),
+            load,
+            frame: (w, h),
+            emit_key: file_key("emit_photons", &p.emit_photons)
+                .filter(|_| options.photons.emit.is_none()),
+            max_key: file_key("max_photons", &p.max_photons),
+        })
     }
 
     /// The pixels a render of `options` fills: its part's of its region's, or the frame's.
@@ -442,6 +475,28 @@ impl Renderer {
     /// which algorithm runs, keys without effect, settings that switch it off.
     pub fn photon_notes(&self, options: &RenderOptions) -> Vec<String> {
         Plan::of(&self.scene, &options.photons).1
+    }
+
+    /// The warning a render whose photon passes reached `max_photons=`
+    /// makes, from its figures `stats`: what was kept and how it was made up for.
+    pub fn photon_cap_warning(&self, stats: &PhotonStats) -> Option<String> {
+        if stats.thinned == 0 {
+            return None;
+        }
+        let cap = self.camera_key("max_photons", &stats.stored);
+        let which = if cap.at.is_some() {
+            ""
+        } else {
+            " (the default)"
+        };
+        let stored = stats.stored + stats.thinned;
+        Some(format!(
+            "warning: {cap}{which} reached: {} photon pass stored {stored} photons and kept {} of them, \
+             chosen evenly, their power scaled by {:.3}; raise `max_photons=` to keep them all",
+            if stats.planned > 0 { "the last" } else { "the" },
+            stats.stored,
+            stored as f64 / stats.stored as f64
+        ))
     }
 
     /// Renders `preview` (a cheaper render of the same picture, such as a

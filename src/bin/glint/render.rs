@@ -75,9 +75,11 @@ pub fn exec(args: Args, interrupt: &AtomicBool) -> Result<(), Failure> {
         refuse_scene_as_output(&args.scene, &output)?;
     }
     let scene = load_scene(&args.scene, args.dialect.dialect, !args.quiet)?;
-    if args.tile.is_none() {
-        Format::from_path(&output).map_err(|e| fail(format!("error: {e}")))?;
-    }
+    // A part of a render writes its tile, not the picture.
+    let format = match args.tile {
+        None => Some(Format::from_path(&output).map_err(|e| fail(format!("error: {e}")))?),
+        Some(_) => None,
+    };
     if args.verbose {
         for note in scene.notes() {
             say(&format!("note: {note}"));
@@ -103,7 +105,7 @@ pub fn exec(args: Args, interrupt: &AtomicBool) -> Result<(), Failure> {
         }
     }
     let (w, h) = renderer.frame_size(&options).map_err(render_failure)?;
-    check_memory(&renderer, &options, args.verbose)?;
+    check_memory(&renderer, &options, format, args.verbose)?;
     warn_if_slow(&renderer, &options, &args.scene)?;
     check_interrupt(interrupt)?;
 
@@ -155,6 +157,9 @@ pub fn exec(args: Args, interrupt: &AtomicBool) -> Result<(), Failure> {
     let rendered = renderer.render_with(&options, control);
     bar.finish_and_clear();
     let (film, stats) = rendered.map_err(render_failure)?;
+    if let Some(warning) = renderer.photon_cap_warning(&stats.photons) {
+        say(&format!("{}: {warning}", args.scene.display()));
+    }
     if interrupt.load(Ordering::Relaxed) && stats.photons.iterations > 0 {
         // Stopped between iterations: the last complete one is the picture.
         film.image()
@@ -232,29 +237,39 @@ fn duration(seconds: f64) -> String {
 }
 
 /// Refuses a render whose buffers would not fit in the memory available
-/// now; with `verbose`, says the bound.
+/// now, saying what would make it fit; with `verbose`, says the estimate.
 fn check_memory(
     renderer: &Renderer,
     options: &RenderOptions,
+    format: Option<Format>,
     verbose: bool,
 ) -> Result<(), Failure> {
-    let need = renderer.memory_needed(options).map_err(render_failure)?;
+    let mut need = renderer.memory_needed(options).map_err(render_failure)?;
+    if let Some(format) = format {
+        need = need.with_encoding(format.encoding());
+    }
     let mib = |b: u64| b as f64 / (1u64 << 20) as f64;
     if verbose && let Some(held) = memory_held() {
         say(&format!(
             "note: memory: at most {:.1} MiB at the peak ({:.1} MiB held now, at most {:.1} MiB more for the render)",
-            mib(held.saturating_add(need)),
+            mib(held.saturating_add(need.bytes)),
             mib(held),
-            mib(need)
+            mib(need.bytes)
         ));
     }
     let gib = |b: u64| b as f64 / (1u64 << 30) as f64;
     match memory_available() {
-        Some(avail) if need > avail => {
+        Some(avail) if need.bytes > avail => {
             let (w, h) = renderer.frame_size(options).map_err(render_failure)?;
+            let fits: Vec<String> = need.fits(avail).iter().map(|f| f.to_string()).collect();
+            let advice = if fits.is_empty() {
+                "nothing alone would make it fit".to_string()
+            } else {
+                format!("it would fit with {}", fits.join(", or "))
+            };
             Err(fail(format!(
-                "error: a {w}x{h} render needs up to {:.1} GiB of memory, but only {:.1} GiB is available: render smaller, with fewer AOVs, or (photon mapping) fewer photons (`--emit`) or hit points (`max_hitpoints=`)",
-                gib(need),
+                "error: a {w}x{h} render needs up to {:.1} GiB of memory, but only {:.1} GiB is available: {advice}",
+                gib(need.bytes),
                 gib(avail),
             )))
         }

@@ -9,6 +9,7 @@ mod map;
 mod plan;
 mod points;
 mod progressive;
+mod thin;
 mod trace;
 mod units;
 
@@ -18,5 +19,5 @@ pub(crate) use plan::{FirstRadius, PhotonBrdf, Plan, Term};
 pub use plan::{PhotonFilter, PhotonMode, PhotonOptions};
 pub(crate) use points::{HitPointObserver, HitPointSeed};
 pub(crate) use progressive::{HitPoint, gather, update_hit_point};
-pub(crate) use trace::{Photon, shoot};
-pub(crate) use units::{MAX_PHOTON_HITS, power};
+pub(crate) use trace::{Photon, batch_emitted, shoot, stored_per_emitted};
+pub(crate) use units::power;

@@ -6,6 +6,7 @@
 //! whatever the threads.
 
 use super::plan::{PhotonBrdf, Plan, Term};
+use super::thin::Kept;
 use super::units::{MAX_PHOTON_HITS, power, share};
 use crate::geometry::perpendiculars;
 use crate::geometry::{Ray, offset_origin};
@@ -24,6 +25,10 @@ use rayon::prelude::*;
 /// Photons traced per task: fixed, so the tasks (and the order their
 /// photons are joined in) do not depend on the threads.
 const CHUNK: u64 = 4096;
+
+/// Chunks a batch holds for each worker thread: enough to keep them busy,
+/// few enough that a batch's photons are small beside the cap.
+const BATCH_PER_THREAD: u64 = 8;
 
 /// A photon stored on a diffuse surface.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -69,6 +74,47 @@ pub(crate) fn shares(lights: &[Light], n: u64) -> Vec<(usize, u64)> {
         .collect()
 }
 
+/// Photons emitted in a batch on `threads` workers: chunks traced at once
+/// before their photons join the kept ones.
+pub(crate) fn batch_emitted(threads: u64) -> u64 {
+    BATCH_PER_THREAD * threads.max(1) * CHUNK
+}
+
+/// One pass's photons and their streams: photon j is light l's when j is
+/// in l's range, and draws from a stream keyed by (seed, pass, j).
+struct Emission<'a> {
+    tracer: Tracer<'a>,
+    /// Each emitting light's first index, the light and its count.
+    starts: Vec<(u64, usize, u64)>,
+    emitted: u64,
+    key: u64,
+}
+
+impl<'a> Emission<'a> {
+    fn new(tracer: Tracer<'a>, seed: u64, pass: u64) -> Self {
+        let shares = shares(tracer.scene.lights(), tracer.plan.emit);
+        let mut starts = Vec::with_capacity(shares.len());
+        let mut emitted = 0u64;
+        for &(l, n) in &shares {
+            starts.push((emitted, l, n));
+            emitted += n;
+        }
+        Emission {
+            tracer,
+            starts,
+            emitted,
+            key: mix(mix(seed ^ 0x5048_4f54_4f4e_5321) ^ mix(pass)),
+        }
+    }
+
+    /// Traces photon `j` into `out`; returns the rays it cast.
+    fn trace(&self, j: u64, out: &mut Vec<Photon>) -> u64 {
+        let (_, l, n) = self.starts[self.starts.partition_point(|s| s.0 <= j) - 1];
+        let mut rng = Pcg32::seed_from_u64(mix(self.key ^ j));
+        self.tracer.trace(l, n, &mut rng, out)
+    }
+}
+
 /// Traces pass `pass` of `plan.emit` photons through `scene`, in `model`.
 pub(crate) fn shoot(
     scene: &Scene,
@@ -78,73 +124,85 @@ pub(crate) fn shoot(
     seed: u64,
     pass: u64,
 ) -> PhotonPass {
-    let shares = shares(scene.lights(), plan.emit);
-    // Light l's photons are the indices [start, start + n_l).
-    let mut starts = Vec::with_capacity(shares.len());
-    let mut emitted = 0u64;
-    for &(l, n) in &shares {
-        starts.push((emitted, l, n));
-        emitted += n;
-    }
-    let key = mix(mix(seed ^ 0x5048_4f54_4f4e_5321) ^ mix(pass));
     let tracer = Tracer {
         scene,
         accel,
         model,
         plan,
     };
-    let chunks: Vec<(Vec<Photon>, u64)> = (0..emitted.div_ceil(CHUNK))
-        .into_par_iter()
-        .map(|c| {
-            let (mut out, mut rays) = (Vec::new(), 0);
-            let (lo, hi) = (c * CHUNK, ((c + 1) * CHUNK).min(emitted));
-            for j in lo..hi {
-                // The light whose range holds j.
-                let (_, l, n) = starts[starts.partition_point(|s| s.0 <= j) - 1];
-                let mut rng = Pcg32::seed_from_u64(mix(key ^ j));
-                rays += tracer.trace(l, n, &mut rng, &mut out);
-            }
-            (out, rays)
-        })
-        .collect();
-    let rays = chunks.iter().map(|c| c.1).sum();
-    let mut photons = Vec::with_capacity(chunks.iter().map(|c| c.0.len()).sum());
-    for (chunk, _) in &chunks {
-        photons.extend_from_slice(chunk);
+    let e = Emission::new(tracer, seed, pass);
+    // Batches of chunks, in order, each joining the kept photons as soon
+    // as it is traced: a pass holds at most `max_photons=` (and an eighth)
+    // and one batch, however many it emits.
+    let chunks = e.emitted.div_ceil(CHUNK);
+    let batch = batch_emitted(rayon::current_num_threads() as u64) / CHUNK;
+    let mut kept = Kept::new(plan.max_photons, e.key);
+    let mut rays = 0;
+    for first in (0..chunks).step_by(batch as usize) {
+        let traced: Vec<(Vec<Photon>, u64)> = (first..(first + batch).min(chunks))
+            .into_par_iter()
+            .map(|c| {
+                let (mut out, mut rays) = (Vec::new(), 0);
+                for j in c * CHUNK..((c + 1) * CHUNK).min(e.emitted) {
+                    rays += e.trace(j, &mut out);
+                }
+                (out, rays)
+            })
+            .collect();
+        for (chunk, r) in &traced {
+            kept.extend(chunk);
+            rays += r;
+        }
     }
-    let thinned = thin(&mut photons, plan.max_photons, key);
+    let (photons, thinned) = kept.finish(|p, by| p.power *= by);
     PhotonPass {
         photons,
-        emitted,
+        emitted: e.emitted,
         thinned,
         rays,
     }
 }
 
-/// Keeps `max` of `photons` chosen evenly by a hash of their index (the
-/// same whatever the threads), in photon order, their power scaled by
-/// stored/kept; returns how many were dropped.
-fn thin(photons: &mut Vec<Photon>, max: u64, key: u64) -> u64 {
-    let n = photons.len() as u64;
-    if n <= max {
-        return 0;
+/// Photons traced to measure how many a pass stores: at least this many...
+const PILOT_MIN: u64 = 4096;
+/// ...and a 256th of those emitted, up to this many (a few percent of the
+/// pass's time at most; where few photons are stored, a small sample's
+/// standard error is a large part of the mean).
+const PILOT_MAX: u64 = 65_536;
+
+/// Photons a pass of `plan` stores per photon emitted, from a sample of
+/// pass 0's photons spread evenly over its lights (a 256th of them, from
+/// [`PILOT_MIN`] to [`PILOT_MAX`]): the sample's mean and four standard
+/// errors (an estimate that is rarely below the truth).
+pub(crate) fn stored_per_emitted(
+    scene: &Scene,
+    accel: &SceneAccel,
+    model: &Model,
+    plan: &Plan,
+    seed: u64,
+) -> f64 {
+    let tracer = Tracer {
+        scene,
+        accel,
+        model,
+        plan,
+    };
+    let e = Emission::new(tracer, seed, 0);
+    let n = (e.emitted / 256).clamp(PILOT_MIN, PILOT_MAX).min(e.emitted);
+    if n == 0 {
+        return 0.0;
     }
-    let mut ranked: Vec<(u64, u32)> = (0..n as u32)
-        .map(|i| (mix(key ^ 0x7448_494e ^ u64::from(i)), i))
-        .collect();
-    ranked.select_nth_unstable(max as usize - 1);
-    let mut keep: Vec<u32> = ranked[..max as usize].iter().map(|&(_, i)| i).collect();
-    keep.sort_unstable();
-    let scale = n as f64 / max as f64;
-    *photons = keep
-        .iter()
-        .map(|&i| {
-            let mut p = photons[i as usize];
-            p.power *= scale;
-            p
+    let counts: Vec<f64> = (0..n)
+        .into_par_iter()
+        .map_init(Vec::new, |out, k| {
+            out.clear();
+            e.trace(k * e.emitted / n, out);
+            out.len() as f64
         })
         .collect();
-    n - max
+    let mean = counts.iter().sum::<f64>() / n as f64;
+    let var = counts.iter().map(|c| (c - mean).powi(2)).sum::<f64>() / n as f64;
+    (mean + 4.0 * (var / n as f64).sqrt()).min(f64::from(MAX_PHOTON_HITS))
 }
 
 /// What one photon's path reads.
