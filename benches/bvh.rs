@@ -269,5 +269,128 @@ fn traverse(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, build, traverse);
+/// A primitive's box for obvhs: glint's f64 box padded by 2^-20 of its
+/// extent and magnitude, rounded outward to f32 (obvhs tests f32 boxes with
+/// an f32 ray; the pad is far above that arithmetic's rounding for rays that
+/// start within a few scene sizes of the box).
+struct Padded(obvhs::aabb::Aabb);
+
+impl obvhs::Boundable for Padded {
+    fn aabb(&self) -> obvhs::aabb::Aabb {
+        self.0
+    }
+}
+
+fn padded(o: &Object) -> Padded {
+    let b = o.bounds().expect("the bench scenes are bounded");
+    let pad = ((b.max - b.min).max_element() + b.min.abs().max(b.max.abs()).max_element())
+        / (1u64 << 20) as f64;
+    let down = |x: f64| {
+        let f = x as f32;
+        if f as f64 > x { f.next_down() } else { f }
+    };
+    let up = |x: f64| {
+        let f = x as f32;
+        if (f as f64) < x { f.next_up() } else { f }
+    };
+    let lo = b.min - pad;
+    let hi = b.max + pad;
+    Padded(obvhs::aabb::Aabb {
+        min: glam34::Vec3A::new(down(lo.x), down(lo.y), down(lo.z)),
+        max: glam34::Vec3A::new(up(hi.x), up(hi.y), up(hi.z)),
+    })
+}
+
+/// The nearest hit through obvhs's compressed 8-wide BVH, each candidate
+/// tested exactly (f64) as glint's `Accel::intersect` tests it: the same
+/// object and hit whenever no candidate is culled wrongly.
+fn obvhs_nearest(bvh: &obvhs::cwbvh::CwBvh, objects: &[Object], r: &Ray) -> Option<(u32, f64)> {
+    let ray = obvhs::ray::Ray::new_inf(
+        glam34::Vec3A::new(r.origin.x as f32, r.origin.y as f32, r.origin.z as f32),
+        glam34::Vec3A::new(r.dir.x as f32, r.dir.y as f32, r.dir.z as f32),
+    );
+    let mut best: Option<(u32, f64)> = None;
+    let mut hit = obvhs::ray::RayHit::none();
+    bvh.ray_traverse(ray, &mut hit, |_, k| {
+        let i = bvh.primitive_indices[k];
+        let limit = match best {
+            Some((b, t)) if i < b => t.next_up(),
+            Some((_, t)) => t,
+            None => f64::INFINITY,
+        };
+        if let Some(h) = objects[i as usize].intersect(r, r.t_min, limit) {
+            best = Some((i, h.t));
+        }
+        // Rounded up: no box nearer than the best hit is culled.
+        best.map_or(f32::INFINITY, |(_, t)| {
+            let f = t as f32;
+            if (f as f64) < t { f.next_up() } else { f }
+        })
+    });
+    best
+}
+
+/// glint's binary BVH beside obvhs's CWBVH (PLOC build, 8-wide compressed
+/// nodes, SIMD node tests) on the same rays, the primitives tested exactly
+/// by glint in both; prints the build times and the rays whose answers differ.
+fn obvhs_side_by_side(c: &mut Criterion) {
+    let mut g = c.benchmark_group("obvhs");
+    g.sample_size(10)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(3));
+    let scenes = [
+        ("spheres-1M", random_spheres(1_000_000, 3)),
+        ("bunny", bunny()),
+    ];
+    for (name, objects) in &scenes {
+        let t0 = std::time::Instant::now();
+        let accel = Accel::build(objects.clone());
+        let ours = t0.elapsed();
+        let boxes: Vec<Padded> = objects.iter().map(padded).collect();
+        let t0 = std::time::Instant::now();
+        let bvh = obvhs::cwbvh::builder::build_cwbvh(
+            &boxes,
+            obvhs::BvhBuildParams::medium_build(),
+            &mut Duration::default(),
+        );
+        let theirs = t0.elapsed();
+        let rays = primary_rays(objects, 4);
+        let tiles = camera_tiles(objects, 6);
+        let differ = rays
+            .iter()
+            .chain(&tiles)
+            .filter(|r| {
+                let a = accel.intersect(r, f64::INFINITY).map(|(i, h)| (i, h.t));
+                a != obvhs_nearest(&bvh, objects, r)
+            })
+            .count();
+        eprintln!(
+            "{name}: build glint {:.3} s, obvhs {:.3} s (medium_build, {} threads); {differ} of {} answers differ",
+            ours.as_secs_f64(),
+            theirs.as_secs_f64(),
+            rayon::current_num_threads(),
+            rays.len() + tiles.len()
+        );
+        for (kind, set) in [("closest-hit", &rays), ("camera-tiles-single", &tiles)] {
+            g.throughput(Throughput::Elements(set.len() as u64));
+            g.bench_function(BenchmarkId::new(format!("{kind}-glint"), name), |b| {
+                b.iter(|| {
+                    set.iter()
+                        .filter(|r| accel.intersect(r, f64::INFINITY).is_some())
+                        .count()
+                })
+            });
+            g.bench_function(BenchmarkId::new(format!("{kind}-obvhs"), name), |b| {
+                b.iter(|| {
+                    set.iter()
+                        .filter(|r| obvhs_nearest(&bvh, objects, r).is_some())
+                        .count()
+                })
+            });
+        }
+    }
+    g.finish();
+}
+
+criterion_group!(benches, build, traverse, obvhs_side_by_side);
 criterion_main!(benches);
