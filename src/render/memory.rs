@@ -4,7 +4,9 @@
 //! spent, and the settings that would make it fit.
 
 use super::key::CameraKey;
-use crate::integrator::photons::{HitPoint, HitPointSeed, Photon, PhotonMode, Plan, batch_emitted};
+use crate::integrator::photons::{
+    HitPoint, HitPointSeed, Photon, PhotonMode, Plan, Term, batch_emitted,
+};
 use std::fmt;
 use std::mem::size_of;
 
@@ -79,6 +81,9 @@ pub(crate) struct Load {
     pub encoding: Encoding,
     /// The photon algorithm.
     pub mode: PhotonMode,
+    /// Whether PPM builds a preliminary map for its hit points' radii
+    /// (not lazycal's, which starts at R).
+    pub preliminary_map: bool,
     /// Photons emitted a pass.
     pub emit: u64,
     /// `max_photons=`.
@@ -102,6 +107,7 @@ impl Load {
             channels,
             encoding: Encoding::LARGEST,
             mode: plan.mode,
+            preliminary_map: plan.term != Term::Only,
             emit: plan.emit,
             max_photons: plan.max_photons,
             max_hitpoints: plan.max_hitpoints,
@@ -139,7 +145,11 @@ impl Load {
             PhotonMode::Ppm => {
                 let points = (self.hit_points_per_pixel * pixels).min(self.max_hitpoints as f64);
                 let (trace, kept) = self.pass();
-                let build = kept * (2.0 * photon + (MAP_BUILD + MAP_PHOTON) as f64);
+                let build = if self.preliminary_map {
+                    kept * (2.0 * photon + (MAP_BUILD + MAP_PHOTON) as f64)
+                } else {
+                    0.0
+                };
                 let grid = kept * (photon + GRID_PHOTON as f64);
                 // The eye pass; the preliminary map, then every pass and
                 // its grid, beside the hit points.
@@ -341,6 +351,7 @@ mod tests {
             channels: 0,
             encoding: Encoding::LARGEST,
             mode,
+            preliminary_map: true,
             emit: 10_000_000,
             max_photons: 1_000_000,
             max_hitpoints: 4_000_000,

@@ -197,6 +197,23 @@ pub fn exec(args: Args, interrupt: &AtomicBool) -> Result<(), Failure> {
                 "rays: camera {}, reflected {}, refracted {}, shadow {}; {} pixels anti-aliased",
                 r.camera, r.reflected, r.refracted, r.shadow, stats.refined_pixels
             ));
+            let p = &stats.photons;
+            if p.emitted > 0 {
+                let passes = if p.planned > 0 {
+                    format!("{} of {} passes", p.iterations, p.planned)
+                } else {
+                    "one map".to_string()
+                };
+                say(&format!(
+                    "photons: {passes} of {} emitted, {} stored in the last (of {} traced), {} hit points, {:.3} s, {:.1} M photon rays",
+                    p.emitted,
+                    p.stored,
+                    p.stored + p.thinned,
+                    p.hit_points,
+                    p.elapsed.as_secs_f64(),
+                    p.rays as f64 / 1e6
+                ));
+            }
         }
     }
     Ok(())
