@@ -395,14 +395,22 @@ fn a_task_requeued_mid_render_leaves_the_same_tiles() {
     // `sbatch --wait` may end with the first attempt's status (seen: 1 in
     // one CI run, 0 in others): the tasks' tiles and the merge are the test.
     let _ = sbatch.finish(WAIT);
+    // The array has ended once squeue lists none of it twice in a row (a
+    // task being requeued may be listed nowhere for a moment).
     let start = Instant::now();
-    while !job_state(&job).is_empty() {
+    let mut empty = 0;
+    while empty < 2 {
+        empty = if job_state(&job).is_empty() {
+            empty + 1
+        } else {
+            0
+        };
         assert!(
             start.elapsed() < WAIT,
             "the array did not end: {}",
             s.logs()
         );
-        std::thread::sleep(Duration::from_millis(200));
+        std::thread::sleep(Duration::from_millis(500));
     }
     for i in 0..4 {
         let tile = tiles.join(format!("tile-{i}-of-4.glt"));

@@ -239,7 +239,9 @@ pub fn job_state(id: &str) -> String {
 /// `scontrol requeue TASK`: the running task is killed and queued again.
 /// Pending again, it would wait for its begin time (about 2 minutes), so it
 /// is released at once (`scontrol update jobid=TASK StartTime=now`), as
-/// often as that takes. Returns once it runs again or has ended.
+/// often as that takes. Returns once it runs again or has ended after it
+/// stopped: right after the requeue, squeue may list the task nowhere for
+/// a moment (seen in one CI run), which is not its end.
 pub fn requeue(task: &str) {
     let o = run(Command::new("scontrol").args(["requeue", task]));
     assert_ok(&o, &format!("scontrol requeue {task}"));
@@ -247,12 +249,15 @@ pub fn requeue(task: &str) {
     let (start, mut stopped) = (Instant::now(), false);
     loop {
         match job_state(task).as_str() {
-            "" => return,
-            "RUNNING" if stopped => return,
+            "" | "RUNNING" if stopped => return,
+            "" => {}
             "PENDING" => {
                 stopped = true;
                 let o = run(Command::new("scontrol").args(["update", &release, "StartTime=now"]));
-                assert_ok(&o, &format!("scontrol update {release} StartTime=now"));
+                // It may have started between squeue and the update.
+                if !String::from_utf8_lossy(&o.stderr).contains("no longer pending") {
+                    assert_ok(&o, &format!("scontrol update {release} StartTime=now"));
+                }
             }
             "RUNNING" => {}
             _ => stopped = true, // completing, requeued
