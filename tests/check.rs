@@ -3,7 +3,7 @@
 
 mod common;
 
-use glint::{Code, Renderer, Scene, check};
+use glint::{Code, Dialect, Renderer, Scene, check};
 
 const CAMERA: &str = "camera\n O= 0 -8 2\n N= 0 1 -0.2\n image_W= 64\n image_H= 48\n lens_W= 1\n lens_H= 0.75\n shade_quality= 1\n drefl_quality= 1\nend\n";
 const LIGHT: &str = "light point\n O= 3 -6 8\n color= 1 1 1\nend\n";
@@ -248,6 +248,26 @@ fn lighting() {
     let text = with("").replace(" O= 3 -6 8", " O= 3 -6 -8");
     let found = findings(&text);
     assert_eq!(found[0], (Code::FacesAway, line_of(&text, "primitive", 0)));
+    // What the unlit side shows: black in the framework, the ambient term
+    // in the lineages that have one (W: diff·k·background).
+    let message = |dialect| {
+        let scene = Scene::parse_as(&text, ".", Some(dialect)).unwrap_or_else(|e| panic!("{e}"));
+        let report = check(&Renderer::new(scene));
+        let faces_away = report.findings.iter().find(|f| f.code == Code::FacesAway);
+        faces_away.map(|f| f.message.clone()).unwrap_or_default()
+    };
+    let f = message(Dialect::F);
+    assert!(
+        f.ends_with("it renders black (the model has no ambient term)"),
+        "{f}"
+    );
+    let w = message(Dialect::W);
+    assert!(
+        w.ends_with(
+            "it shows the ambient term alone (the background's colour times the surface's)"
+        ),
+        "{w}"
+    );
 }
 
 #[test]

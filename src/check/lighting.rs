@@ -8,6 +8,7 @@
 
 use super::finding::{Code, Findings};
 use crate::geometry::{Ray, offset_origin};
+use crate::integrator::{Ambient, Model};
 use crate::render::Renderer;
 use crate::scene::{LightKind, Origin};
 use glam::DVec3;
@@ -103,6 +104,12 @@ pub(crate) fn check(renderer: &Renderer, out: &mut Findings) {
             entry.reached += u32::from(reached);
         }
     }
+    // What a surface no light reaches shows: black, or the ambient term of
+    // the lineages that have one.
+    let unlit = match Model::of(scene.dialect().dialect, camera).ambient {
+        Ambient::None => "renders black (the model has no ambient term)",
+        _ => "shows the ambient term alone (the background's colour times the surface's)",
+    };
     let table = renderer.primitive_table();
     let named = |b: u32| {
         let kind = table.get(&b).map_or("primitive", |e| e.0);
@@ -113,8 +120,9 @@ pub(crate) fn check(renderer: &Renderer, out: &mut Findings) {
             out.at(
                 Code::Unlit,
                 None,
-                "the scene has no light: every diffuse or specular surface renders black (the model has no ambient term)".to_string(),
-                "add a `light point` block (e.g. `O=` above the camera, `color= 1 1 1`)".to_string(),
+                format!("the scene has no light: every diffuse or specular surface {unlit}"),
+                "add a `light point` block (e.g. `O=` above the camera, `color= 1 1 1`)"
+                    .to_string(),
             );
         }
         return;
@@ -125,14 +133,14 @@ pub(crate) fn check(renderer: &Renderer, out: &mut Findings) {
             out.block(
                 Code::FacesAway,
                 b,
-                format!("the camera sees {what} only on its side that faces away from every light ({} of {} grid rays): it renders black, as the model has no ambient term", s.hits, s.hits),
+                format!("the camera sees {what} only on its side that faces away from every light ({} of {} grid rays): it {unlit}", s.hits, s.hits),
                 "move a light to the side of it that the camera sees (or move the camera round to its lit side)".to_string(),
             );
         } else if s.reached == 0 {
             out.block(
                 Code::Unlit,
                 b,
-                format!("no light reaches {what} where the camera sees it: all {} grid rays that face a light find it blocked, so it renders black", s.facing),
+                format!("no light reaches {what} where the camera sees it: all {} grid rays that face a light find it blocked, so it {unlit}", s.facing),
                 "move a light or what blocks it (glass blocks shadow rays in this model); `glint explain` on one of its pixels names the blocker".to_string(),
             );
         }

@@ -12,7 +12,7 @@ mod tree;
 mod visibility;
 mod whitted;
 
-pub(crate) use model::{AntiAlias, Glossy, Lens, Model, PhotonBounce};
+pub(crate) use model::{Ambient, AntiAlias, Glossy, Lens, Model, PhotonBounce};
 pub use observer::RayKind;
 pub(crate) use observer::{AaHash, LightSeen, NoObserver, PathObserver, SurfaceSeen, mix};
 pub use path::RayCounts;
