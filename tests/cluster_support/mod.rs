@@ -236,35 +236,33 @@ pub fn job_state(id: &str) -> String {
     String::from_utf8_lossy(&out.stdout).trim().to_string()
 }
 
-/// `scontrol requeue TASK`: the running task is killed and queued again.
-/// Pending again, it would wait for its begin time (about 2 minutes), so it
-/// is released at once (`scontrol update jobid=TASK StartTime=now`), as
-/// often as that takes. Returns once it runs again or has ended after it
-/// stopped: right after the requeue, squeue may list the task nowhere for
-/// a moment (seen in one CI run), which is not its end.
-pub fn requeue(task: &str) {
+/// `scontrol requeue TASK`, then waits until `done` holds: the task is
+/// killed and queued again; pending again, it would wait for its begin time
+/// (about 2 minutes), so it is released (`scontrol update jobid=TASK
+/// StartTime=now`) whenever squeue lists it pending. What the task leaves
+/// behind, not squeue, says it ran again: right after the requeue squeue may
+/// list it nowhere for a while (seen in CI), and it may start between squeue
+/// and the update.
+pub fn requeue(task: &str, done: impl Fn() -> bool) {
     let o = run(Command::new("scontrol").args(["requeue", task]));
     assert_ok(&o, &format!("scontrol requeue {task}"));
     let release = format!("jobid={task}");
-    let (start, mut stopped) = (Instant::now(), false);
-    loop {
-        match job_state(task).as_str() {
-            "" | "RUNNING" if stopped => return,
-            "" => {}
-            "PENDING" => {
-                stopped = true;
-                let o = run(Command::new("scontrol").args(["update", &release, "StartTime=now"]));
-                // It may have started between squeue and the update.
-                if !String::from_utf8_lossy(&o.stderr).contains("no longer pending") {
-                    assert_ok(&o, &format!("scontrol update {release} StartTime=now"));
-                }
+    let start = Instant::now();
+    let mut seen = Vec::new();
+    while !done() {
+        let state = job_state(task);
+        if state == "PENDING" {
+            let o = run(Command::new("scontrol").args(["update", &release, "StartTime=now"]));
+            if !String::from_utf8_lossy(&o.stderr).contains("no longer pending") {
+                assert_ok(&o, &format!("scontrol update {release} StartTime=now"));
             }
-            "RUNNING" => {}
-            _ => stopped = true, // completing, requeued
+        }
+        if seen.last() != Some(&state) {
+            seen.push(state);
         }
         assert!(
             start.elapsed() < WAIT,
-            "{task} did not run again within {WAIT:?}"
+            "{task} did not finish again within {WAIT:?}; squeue said {seen:?}"
         );
         std::thread::sleep(Duration::from_millis(200));
     }
