@@ -263,7 +263,10 @@ SlurmUser=root
 SlurmdUser=root
 AuthType=auth/munge
 CredType=cred/munge
-AuthInfo=socket=$SOCK
+# cred_expire: how long a credential lives, and so how long a requeued
+# job waits before it starts again (its begin time: cred_expire + 1 s; the
+# default, 120 s, makes a requeue take minutes; 5 is the least allowed).
+AuthInfo=socket=$SOCK,cred_expire=10
 StateSaveLocation=$DIR/spool/ctld
 SlurmdSpoolDir=$DIR/spool/d
 SlurmctldPidFile=$DIR/run/slurmctld.pid

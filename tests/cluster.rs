@@ -393,7 +393,28 @@ fn a_task_requeued_mid_render_leaves_the_same_tiles() {
     );
     // The test is what the tasks leave: every tile, and task 1 run again.
     let all_tiles = || (0..4).all(|i| tiles.join(format!("tile-{i}-of-4.glt")).is_file());
-    requeue(&task, || all_tiles() && attempts.join("1").exists());
+    requeue(
+        &task,
+        || all_tiles() && attempts.join("1").exists(),
+        || {
+            let names = |d: &Path| -> Vec<String> {
+                let mut v: Vec<String> = std::fs::read_dir(d)
+                    .into_iter()
+                    .flatten()
+                    .flatten()
+                    .map(|e| e.file_name().to_string_lossy().into_owned())
+                    .collect();
+                v.sort();
+                v
+            };
+            format!(
+                "attempts: {:?}, tiles: {:?}\n{}",
+                names(&attempts),
+                names(&tiles),
+                s.logs()
+            )
+        },
+    );
     // `sbatch --wait` may end with the first attempt's status (seen: 1 in
     // one CI run, 0 in others): the tasks' tiles and the merge are the test.
     let _ = sbatch.finish(WAIT);

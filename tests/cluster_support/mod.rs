@@ -236,34 +236,38 @@ pub fn job_state(id: &str) -> String {
     String::from_utf8_lossy(&out.stdout).trim().to_string()
 }
 
+/// How long [`requeue`] waits for the task to run again.
+pub const REQUEUE_WAIT: Duration = Duration::from_secs(360);
+
 /// `scontrol requeue TASK`, then waits until `done` holds: the task is
-/// killed and queued again; pending again, it would wait for its begin time
-/// (about 2 minutes), so it is released (`scontrol update jobid=TASK
-/// StartTime=now`) whenever squeue lists it pending. What the task leaves
-/// behind, not squeue, says it ran again: right after the requeue squeue may
-/// list it nowhere for a while (seen in CI), and it may start between squeue
-/// and the update.
-pub fn requeue(task: &str, done: impl Fn() -> bool) {
+/// killed and queued again, and starts again once its begin time comes
+/// (twice the credential lifetime and a little more: 25 s with
+/// scripts/slurm-local.sh's `cred_expire=10`, about 4 minutes with Slurm's
+/// default 120 s, so up to [`REQUEUE_WAIT`]). It is not released sooner:
+/// a task started again within the second its first attempt ended has its
+/// launch refused ("credential revoked") and fails, as it did in CI. What
+/// the task leaves behind, not squeue, says it ran again. On a timeout it
+/// fails with the states squeue showed, `scontrol show job` and `why()`.
+pub fn requeue(task: &str, done: impl Fn() -> bool, why: impl Fn() -> String) {
     let o = run(Command::new("scontrol").args(["requeue", task]));
     assert_ok(&o, &format!("scontrol requeue {task}"));
-    let release = format!("jobid={task}");
     let start = Instant::now();
     let mut seen = Vec::new();
     while !done() {
         let state = job_state(task);
-        if state == "PENDING" {
-            let o = run(Command::new("scontrol").args(["update", &release, "StartTime=now"]));
-            if !String::from_utf8_lossy(&o.stderr).contains("no longer pending") {
-                assert_ok(&o, &format!("scontrol update {release} StartTime=now"));
-            }
-        }
         if seen.last() != Some(&state) {
             seen.push(state);
         }
-        assert!(
-            start.elapsed() < WAIT,
-            "{task} did not finish again within {WAIT:?}; squeue said {seen:?}"
-        );
+        if start.elapsed() > REQUEUE_WAIT {
+            let show = run(Command::new("scontrol").args(["show", "job", task]));
+            panic!(
+                "{task} did not finish again within {REQUEUE_WAIT:?}; squeue said {seen:?}\n\
+                 scontrol show job {task}:\n{}{}\n{}",
+                String::from_utf8_lossy(&show.stdout),
+                String::from_utf8_lossy(&show.stderr),
+                why()
+            );
+        }
         std::thread::sleep(Duration::from_millis(200));
     }
 }
