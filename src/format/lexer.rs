@@ -20,11 +20,14 @@ impl<'a> Word<'a> {
     /// The part of the word after its first `chars` characters, as a word of
     /// its own (for `key=value` glued together).
     pub fn split_off(&self, chars: usize) -> Word<'a> {
-        let byte = self
-            .text
-            .char_indices()
-            .nth(chars)
-            .map_or(self.text.len(), |(i, _)| i);
+        let byte = if self.text.is_ascii() {
+            chars.min(self.text.len())
+        } else {
+            self.text
+                .char_indices()
+                .nth(chars)
+                .map_or(self.text.len(), |(i, _)| i)
+        };
         Word {
             text: &self.text[byte..],
             start: self.start + byte,
@@ -88,6 +91,11 @@ const PATH_KEYS: [&str; 2] = ["texture", "file"];
 /// Byte offset just after the `=` when the line's key is a path key
 /// (`texture= ...`, `file=...`, `texture = ...`), else `None`.
 fn path_value_start(line: &str) -> Option<usize> {
+    // Most lines start with another letter: no trimming, no search.
+    let first = line.bytes().find(|b| !matches!(b, b'\t'..=b'\r' | b' '));
+    if first.is_some_and(|b| b.is_ascii() && b != b't' && b != b'f') {
+        return None;
+    }
     let lead = line.len() - line.trim_start().len();
     let rest = &line[lead..];
     let key_len = rest.find(|c: char| c == '=' || c.is_whitespace())?;
@@ -115,6 +123,41 @@ pub(crate) fn words_into<'a>(line: &'a str, out: &mut Vec<Word<'a>>) {
     out.clear();
     // Where a path value starts, on a `texture=` / `file=` line.
     let path = path_value_start(line);
+    if line.is_ascii() {
+        ascii_words(line, path, out);
+    } else {
+        char_words(line, path, out);
+    }
+}
+
+/// [`words_into`] for a line of ASCII text (nearly every line of every
+/// file): a byte is a character, so a column is a byte offset plus one.
+fn ascii_words<'a>(line: &'a str, path: Option<usize>, out: &mut Vec<Word<'a>>) {
+    let b = line.as_bytes();
+    // Byte start (and so column − 1) of the word being read.
+    let mut current: Option<usize> = None;
+    let word = |start: Option<usize>| start.map(|s| (s, s + 1));
+    for (i, &c) in b.iter().enumerate() {
+        let comment = c == b'#'
+            || (c == b'/'
+                && b.get(i + 1) == Some(&b'/')
+                && !inside_path(line, path, word(current), i));
+        if comment {
+            close(out, line, word(current), i, i + 1);
+            return;
+        }
+        // The ASCII characters `char::is_whitespace` takes: tab to carriage return, space.
+        if matches!(c, b'\t'..=b'\r' | b' ') {
+            close(out, line, word(current.take()), i, i + 1);
+        } else if current.is_none() {
+            current = Some(i);
+        }
+    }
+    close(out, line, word(current), b.len(), b.len() + 1);
+}
+
+/// [`words_into`] for any line, character by character.
+fn char_words<'a>(line: &'a str, path: Option<usize>, out: &mut Vec<Word<'a>>) {
     // (byte start, column) of the word being read.
     let mut current: Option<(usize, usize)> = None;
     let mut col = 0;
@@ -324,10 +367,38 @@ mod tests {
         assert_eq!(strip_bom("a\u{feff}"), "a\u{feff}");
     }
 
+    proptest::proptest! {
+        #![proptest_config(proptest::test_runner::Config {
+            cases: 4096,
+            rng_seed: proptest::test_runner::RngSeed::Fixed(37),
+            ..proptest::test_runner::Config::default()
+        })]
+        /// ASCII lines split byte by byte as character by character: the
+        /// same words, offsets and columns, comments and paths included.
+        #[test]
+        fn ascii_lines_split_as_characters_do(
+            parts in proptest::collection::vec(proptest::sample::select(vec![
+                "texture=", "file=", "texture", "=", "O=", "R=", "1", "-2.5", "a//b", "//", "/",
+                "#", "x#y", "end", "a.bmp", " ", "  ", "\t", "\x0b", "\x0c", "\r",
+            ]), 0..12),
+        ) {
+            let line = parts.concat();
+            let (mut fast, mut slow) = (Vec::new(), Vec::new());
+            let path = path_value_start(&line);
+            ascii_words(&line, path, &mut fast);
+            char_words(&line, path, &mut slow);
+            proptest::prop_assert_eq!(fast, slow, "{:?}", line);
+        }
+    }
+
     #[test]
     fn split_off() {
         let w = words("color=1")[0];
         let v = w.split_off(6);
         assert_eq!((v.text, v.col, v.len, v.start), ("1", 7, 1, 6));
+        let w = words("é=1")[0];
+        let v = w.split_off(2);
+        assert_eq!((v.text, v.col, v.len, v.start), ("1", 3, 1, 3));
+        assert_eq!(w.split_off(9).text, "");
     }
 }

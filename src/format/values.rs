@@ -55,10 +55,27 @@ pub(crate) struct Entry<'a> {
     pub colon: bool,
 }
 
-impl Entry<'_> {
-    /// The key as written, with its `=` or `:`.
-    pub fn written(&self) -> String {
-        format!("{}{}", self.key, if self.colon { ':' } else { '=' })
+impl<'a> Entry<'a> {
+    /// The key as written, with its `=` or `:`, for messages.
+    pub fn written(&self) -> Written<'a> {
+        Written {
+            key: self.key,
+            colon: self.colon,
+        }
+    }
+}
+
+/// A key as written (`R=`, or `R:` in the colon family's), displayed in
+/// messages: formatted only when a message is, not for every line read.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Written<'a> {
+    key: &'a str,
+    colon: bool,
+}
+
+impl std::fmt::Display for Written<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}{}", self.key, if self.colon { ':' } else { '=' })
     }
 }
 
@@ -139,50 +156,80 @@ pub(crate) enum NumberError {
 /// (either side may be empty, not both), optional exponent.
 pub(crate) fn parse_number(s: &str) -> Result<f64, NumberError> {
     let b = s.as_bytes();
-    let mut i = 0;
-    if matches!(b.first(), Some(b'+' | b'-')) {
-        i += 1;
-    }
-    let unsigned = &s[i..];
-    if ["inf", "infinity", "nan"]
-        .iter()
-        .any(|w| unsigned.eq_ignore_ascii_case(w))
-    {
-        return Err(NumberError::NotFinite);
-    }
-    let digits = |i: &mut usize| {
+    let negative = b.first() == Some(&b'-');
+    let sign = usize::from(matches!(b.first(), Some(b'+' | b'-')));
+    let mut i = sign;
+    // The digits' value (meaningful while there are at most 19 of them).
+    let mut w: u64 = 0;
+    let mut digits = |i: &mut usize| {
         let start = *i;
-        while b.get(*i).is_some_and(u8::is_ascii_digit) {
+        while let Some(d) = b.get(*i).filter(|d| d.is_ascii_digit()) {
+            w = w.wrapping_mul(10).wrapping_add(u64::from(d - b'0'));
             *i += 1;
         }
         *i - start
     };
-    let mut mantissa = digits(&mut i);
+    let whole = digits(&mut i);
+    let mut fraction = 0;
     if b.get(i) == Some(&b'.') {
         i += 1;
-        mantissa += digits(&mut i);
+        fraction = digits(&mut i);
     }
+    let mantissa = whole + fraction;
     if mantissa == 0 {
-        return Err(NumberError::Malformed);
+        let unsigned = &s[sign..];
+        let words = ["inf", "infinity", "nan"];
+        return Err(if words.iter().any(|w| unsigned.eq_ignore_ascii_case(w)) {
+            NumberError::NotFinite
+        } else {
+            NumberError::Malformed
+        });
     }
+    let mut exponent: i64 = 0;
     if matches!(b.get(i), Some(b'e' | b'E')) {
         i += 1;
+        let minus = b.get(i) == Some(&b'-');
         if matches!(b.get(i), Some(b'+' | b'-')) {
             i += 1;
         }
-        if digits(&mut i) == 0 {
+        let start = i;
+        while let Some(d) = b.get(i).filter(|d| d.is_ascii_digit()) {
+            exponent = (exponent * 10 + i64::from(d - b'0')).min(1 << 20);
+            i += 1;
+        }
+        if i == start {
             return Err(NumberError::Malformed);
+        }
+        if minus {
+            exponent = -exponent;
         }
     }
     if i != b.len() {
         return Err(NumberError::Malformed);
     }
-    let x: f64 = s.parse().map_err(|_| NumberError::Malformed)?;
+    // Clinger's fast path: at most 15 digits are exact in an f64, as are the
+    // powers of ten up to 1e22, so one multiplication or division rounds
+    // once: the correctly rounded value, which is what `str::parse` gives.
+    let scale = exponent - fraction as i64;
+    let x = if mantissa <= 15 && scale.abs() <= 22 {
+        let x = w as f64;
+        let p = POWERS_OF_TEN[scale.unsigned_abs() as usize];
+        let x = if scale >= 0 { x * p } else { x / p };
+        if negative { -x } else { x }
+    } else {
+        s.parse().map_err(|_| NumberError::Malformed)?
+    };
     if !x.is_finite() || x.abs() > MAX_MAGNITUDE {
         return Err(NumberError::TooLarge);
     }
     Ok(x)
 }
+
+/// 10⁰ to 10²², each exact in an f64.
+static POWERS_OF_TEN: [f64; 23] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+    1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+];
 
 /// The length in bytes of the longest prefix of `s` that C++'s `>>` into a
 /// double reads as a number (0 when none): `2.5.0` reads `2.5`, then `.0`.
@@ -321,7 +368,7 @@ pub(crate) fn parse_entry(
             match parse_number(w.text) {
                 Ok(x) => list.push(x),
                 Err(err) => {
-                    number_error(&key, w, err, line, diags);
+                    number_error(key, w, err, line, diags);
                     return None;
                 }
             }
@@ -361,7 +408,7 @@ pub(crate) fn parse_entry(
             }
             Err(err) => {
                 ok = false;
-                number_error(&key, w, err, line, diags);
+                number_error(key, w, err, line, diags);
             }
         }
     }
@@ -422,7 +469,7 @@ pub(crate) fn parse_entry(
 
 /// Reports word `w` after `key` (as written, `key=` or `key:`), which is
 /// not a usable number.
-fn number_error(key: &str, w: &Word<'_>, err: NumberError, line: usize, diags: &mut Diags) {
+fn number_error(key: Written<'_>, w: &Word<'_>, err: NumberError, line: usize, diags: &mut Diags) {
     let message = match err {
         NumberError::Malformed => format!("expected a number after `{key}`, found `{}`", w.text),
         NumberError::NotFinite => format!("`{}` is not a finite number", w.text),
@@ -481,6 +528,44 @@ mod tests {
         assert_eq!(parse_number("1e999"), Err(NumberError::TooLarge));
         assert_eq!(parse_number("-1e101"), Err(NumberError::TooLarge));
         assert_eq!(parse_number("1e-999"), Ok(0.0));
+        assert_eq!(
+            parse_number("-0").map(f64::to_bits),
+            Ok((-0.0f64).to_bits())
+        );
+        assert_eq!(parse_number("0.1"), Ok(0.1));
+        assert_eq!(parse_number("9007199254740993"), Ok(9007199254740992.0));
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::test_runner::Config {
+            cases: 4096,
+            rng_seed: proptest::test_runner::RngSeed::Fixed(31),
+            ..proptest::test_runner::Config::default()
+        })]
+        /// Every number the grammar takes reads as the standard library's
+        /// correctly rounded parse reads it, bit for bit (the fast path for
+        /// short numbers included).
+        #[test]
+        fn numbers_read_as_the_standard_parse_reads_them(
+            sign in proptest::sample::select(vec!["", "+", "-"]),
+            whole in "[0-9]{0,20}",
+            point in proptest::bool::ANY,
+            fraction in "[0-9]{0,20}",
+            exponent in proptest::option::of((proptest::sample::select(vec!["e", "E"]),
+                proptest::sample::select(vec!["", "+", "-"]), 0u32..40)),
+        ) {
+            let fraction = if point { format!(".{fraction}") } else { String::new() };
+            let exponent = exponent.map_or(String::new(), |(e, s, k)| format!("{e}{s}{k}"));
+            let text = format!("{sign}{whole}{fraction}{exponent}");
+            let theirs = text.parse::<f64>();
+            match parse_number(&text) {
+                Ok(x) => proptest::prop_assert_eq!(Ok(x.to_bits()), theirs.map(f64::to_bits), "{}", text),
+                Err(NumberError::TooLarge) => proptest::prop_assert!(theirs.is_ok_and(|y| y.abs() > MAX_MAGNITUDE), "{}", text),
+                Err(e) => proptest::prop_assert!(
+                    whole.is_empty() && fraction.len() <= 1, "{} refused: {:?}", text, e
+                ),
+            }
+        }
     }
 
     #[test]
