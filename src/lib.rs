@@ -61,7 +61,7 @@ pub use render::{
     Aov, AovImage, AssembleError, CameraKey, Checkpoint, Control, Driver, Encoding, Explanation,
     Film, Fit, HitPointTerm, LIGHT_AOVS_MAX, MAX_EXPLAINED_SPP, MAX_THREADS, MAX_TILES, MemoryNeed,
     PhotonStats, ProgressiveTerm, Region, RenderError, RenderOptions, RenderStats, Renderer,
-    Sampling, Stage, TILE_BAND, Tile, WorkEstimate,
+    Sampling, Stage, TILE_BAND, Tile, WorkEstimate, with_threads,
 };
 pub use scene::{Dialect, DialectChoice, Scene, SceneError};
 

@@ -202,6 +202,25 @@ impl Diags {
         }
     }
 
+    /// Takes in the diagnostics of `other` (about the same file). Past
+    /// [`STORED`] in all, those latest in the file are only counted.
+    pub fn append(&mut self, other: Diags) {
+        self.errors += other.errors;
+        self.dropped += other.dropped;
+        self.dropped_error |= other.dropped_error;
+        self.out.extend(other.out);
+        self.when.extend(other.when);
+        if self.out.len() > STORED {
+            let mut both: Vec<_> = self.out.drain(..).zip(self.when.drain(..)).collect();
+            both.sort_by_key(|(d, _)| (d.line, d.column));
+            for (d, _) in both.drain(STORED..) {
+                self.dropped += 1;
+                self.dropped_error |= d.severity == Severity::Error;
+            }
+            (self.out, self.when) = both.into_iter().unzip();
+        }
+    }
+
     /// Forgets everything recorded since `cp`.
     pub fn rollback(&mut self, cp: DiagCounts) {
         self.out.truncate(cp.diags);

@@ -1,9 +1,13 @@
 //! The scene-file reader: splits the file into blocks (`background`,
 //! `camera`, `light TYPE`, `primitive TYPE` ... `end`), reads each block's
 //! `key= values` lines and hands them to the [`Builder`], collecting every
-//! error and warning with the place in the file it is about.
+//! error and warning with the place in the file it is about. With two
+//! threads the reading of lines and the building of blocks run at once,
+//! the blocks passing between them in batches; the scene and its
+//! diagnostics are the same on one thread.
 
 use super::builder::Builder;
+use super::detect::Evidence;
 use super::diags::{DiagCounts, Diags, Site, When};
 use super::lexer::{self, Line, Word};
 use super::limits::{Limits, LineGuard, ReadError, open_regular};
@@ -13,6 +17,7 @@ use super::values::Entry;
 use crate::scene::{Diagnostic, Dialect, Scene, SceneError, Severity};
 use std::io::Read;
 use std::path::Path;
+use std::sync::mpsc::{Receiver, Sender, channel};
 
 /// The words that open a block (`object`: W's `primitive`; `obj`: abcbdf's).
 const HEADERS: [&str; 6] = [
@@ -62,7 +67,7 @@ fn parse_chunked(
 ) -> Result<Scene, SceneError> {
     let chunk = chunk.max(1);
     let mut guard = LineGuard::new(limits);
-    let mut reader = Reader::new(Some(path), base, dialect, true);
+    let mut reader = Parse::new(Some(path), base, dialect, true);
     // Bytes read but not yet parsed: after the last `\n` read so far.
     let mut raw: Vec<u8> = Vec::new();
     // The text to parse next: the carried part of the last piece, then new lines.
@@ -142,7 +147,7 @@ pub(crate) fn parse_text(
     dialect: Option<Dialect>,
     files: bool,
 ) -> Result<Scene, SceneError> {
-    let mut reader = Reader::new(path, base, dialect, files);
+    let mut reader = Parse::new(path, base, dialect, files);
     let text = reader.strip_bom(text);
     reader.feed(text, true);
     reader.finish()
@@ -182,11 +187,216 @@ struct Mark {
     diags: DiagCounts,
 }
 
-/// A scene file being read, piece by piece: what lives from one piece of
-/// text to the next.
-struct Reader<'p> {
-    diags: Diags,
+/// Blocks a batch holds before it goes to the builder.
+const BATCH: usize = 256;
+
+/// Where the reader puts the blocks it completes: batches sent to the
+/// builder, which come back with the blocks' vectors emptied, for more
+/// blocks.
+struct Batches<'a> {
+    current: Vec<Open<'a>>,
+    send: Sender<Vec<Open<'a>>>,
+    back: Receiver<Vec<Open<'a>>>,
+    /// Emptied vectors for the next blocks.
+    spares: Vec<Spare<'a>>,
+}
+
+impl<'a> Batches<'a> {
+    /// Batches sent on `send`, coming back on `back`.
+    fn new(send: Sender<Vec<Open<'a>>>, back: Receiver<Vec<Open<'a>>>) -> Self {
+        Batches {
+            current: Vec::with_capacity(BATCH),
+            send,
+            back,
+            spares: Vec::new(),
+        }
+    }
+
+    /// Records `block`; returns emptied vectors for the next block.
+    fn push(&mut self, block: Open<'a>) -> Spare<'a> {
+        self.current.push(block);
+        if self.current.len() >= BATCH {
+            self.flush();
+        }
+        if self.spares.is_empty()
+            && let Ok(batch) = self.back.try_recv()
+        {
+            self.spares
+                .extend(batch.into_iter().map(|d| (d.entries, d.values)));
+        }
+        self.spares.pop().unwrap_or_default()
+    }
+
+    /// Sends the blocks recorded so far to the builder.
+    fn flush(&mut self) {
+        if self.current.is_empty() {
+            return;
+        }
+        let full = std::mem::replace(&mut self.current, Vec::with_capacity(BATCH));
+        // The builder's end stays open while any batch may come.
+        let _ = self.send.send(full);
+    }
+}
+
+/// Where the reader puts the blocks it completes.
+enum Sink<'a, 'b, 'p> {
+    /// Each built at once, on this thread (a pool of one thread).
+    Inline {
+        builder: &'b mut Builder<'p>,
+        diags: &'b mut Diags,
+    },
+    /// In batches, to the builder on another thread.
+    Batches(Batches<'a>),
+}
+
+impl<'a> Sink<'a, '_, '_> {
+    /// Records `block`, complete, with the markers it shows into `marks`;
+    /// returns emptied vectors for the next block.
+    fn complete(&mut self, block: Open<'a>, marks: &mut Evidence) -> Spare<'a> {
+        marks.block(
+            block.header.line,
+            block.head,
+            block.type_word,
+            block.entries.iter().map(|e| e.key),
+        );
+        if let Some(line) = block.colon {
+            marks.colon(line);
+        }
+        match self {
+            Sink::Inline { builder, diags } => {
+                build(&block, builder, diags);
+                let (mut entries, mut values) = (block.entries, block.values);
+                entries.clear();
+                values.clear();
+                (entries, values)
+            }
+            Sink::Batches(batches) => batches.push(block),
+        }
+    }
+}
+
+/// Builds `block`, the next in file order.
+fn build(block: &Open<'_>, builder: &mut Builder<'_>, diags: &mut Diags) {
+    // Numbered here, not at the header: a block read again with the next
+    // piece of the file must not take a second number.
+    let index = if block.primitive {
+        builder.next_primitive_block()
+    } else {
+        0
+    };
+    match (block.kind, block.type_word) {
+        (Some(kind), _) => builder.block(
+            kind,
+            block.header,
+            &block.entries,
+            &block.values,
+            index,
+            diags,
+        ),
+        (None, Some(_)) if block.colon.is_some() => {}
+        (None, Some(t)) => unknown_type(block, t, diags),
+        (None, None) => {}
+    }
+}
+
+/// A scene file being read, piece by piece: the reader of its lines and
+/// the builder of its blocks, which work at once (the builder a batch of
+/// blocks behind), each with its own diagnostics, merged at the end.
+struct Parse<'p> {
+    reader: Reader,
     builder: Builder<'p>,
+    /// The builder's diagnostics.
+    built: Diags,
+}
+
+impl<'p> Parse<'p> {
+    /// The reading of the file `path` (`None`: a string), resolving relative
+    /// paths against `base` first (looking for no file unless `files`).
+    fn new(path: Option<&Path>, base: &'p Path, dialect: Option<Dialect>, files: bool) -> Self {
+        let file = path.map_or_else(|| "<input>".to_string(), |p| p.display().to_string());
+        Parse {
+            reader: Reader::new(file.clone(), dialect),
+            builder: Builder::new(base, path, files),
+            built: Diags::new(file),
+        }
+    }
+
+    /// The file's first text without a UTF-8 byte-order mark, noting one.
+    fn strip_bom<'t>(&mut self, text: &'t str) -> &'t str {
+        self.reader.strip_bom(text)
+    }
+
+    /// Reads and builds the next piece of the file (see [`Reader::feed`]):
+    /// the reader on this thread, the builder on another when the pool
+    /// has one, the batches between them. Returns where the block still
+    /// open begins.
+    fn feed(&mut self, text: &str, last: bool) -> usize {
+        let Parse {
+            reader,
+            builder,
+            built,
+        } = self;
+        let (first_line, first_built) = (reader.line, built.count());
+        if rayon::current_num_threads() == 1 {
+            let mut out = Sink::Inline {
+                builder,
+                diags: built,
+            };
+            let carry = reader.feed(text, last, &mut out);
+            built.fill_source_lines(first_built, text, first_line);
+            return carry;
+        }
+        let (send, batches) = channel::<Vec<Open<'_>>>();
+        let (give_back, back) = channel();
+        let (carry, ()) = rayon::join(
+            || {
+                let mut out = Sink::Batches(Batches::new(send, back));
+                let carry = reader.feed(text, last, &mut out);
+                if let Sink::Batches(mut batches) = out {
+                    batches.flush();
+                }
+                carry
+            },
+            || {
+                for mut batch in batches {
+                    for block in &mut batch {
+                        build(block, builder, built);
+                        block.entries.clear();
+                        block.values.clear();
+                    }
+                    let _ = give_back.send(batch);
+                }
+            },
+        );
+        built.fill_source_lines(first_built, text, first_line);
+        carry
+    }
+
+    /// The scene, or every error; warnings and errors in file order.
+    fn finish(self) -> Result<Scene, SceneError> {
+        let Parse {
+            mut reader,
+            mut builder,
+            built,
+        } = self;
+        reader.diags.append(built);
+        builder.evidence.absorb(std::mem::take(&mut reader.marks));
+        for note in std::mem::take(&mut reader.notes) {
+            builder.note(note);
+        }
+        reader.finish(builder)
+    }
+}
+
+/// The reading of a scene file's lines into blocks, piece by piece: what
+/// lives from one piece of text to the next.
+struct Reader {
+    diags: Diags,
+    /// The markers of the lineages the blocks show (the builder adds what
+    /// their values show at the end).
+    marks: Evidence,
+    /// Notes about the file as a whole, in the order found.
+    notes: Vec<String>,
     /// After text outside a block, stay quiet until the next header: one
     /// error per misspelt header, not one per line of its block.
     skipping: bool,
@@ -207,14 +417,13 @@ struct Reader<'p> {
     stopped: bool,
 }
 
-impl<'p> Reader<'p> {
-    /// A reader of the file `path` (`None`: a string), resolving relative
-    /// paths against `base` first (looking for no file unless `files`).
-    fn new(path: Option<&Path>, base: &'p Path, dialect: Option<Dialect>, files: bool) -> Self {
-        let file = path.map_or_else(|| "<input>".to_string(), |p| p.display().to_string());
+impl Reader {
+    /// A reader of the file named `file` in messages, in dialect `dialect` if given.
+    fn new(file: String, dialect: Option<Dialect>) -> Self {
         Reader {
             diags: Diags::new(file),
-            builder: Builder::new(base, path, files),
+            marks: Evidence::default(),
+            notes: Vec::new(),
             skipping: false,
             line: 0,
             dialect,
@@ -232,7 +441,7 @@ impl<'p> Reader<'p> {
     fn stops_at_end(&self) -> bool {
         match self.dialect {
             Some(d) => d == Dialect::L17,
-            None => self.builder.evidence.lazycal(),
+            None => self.marks.lazycal(),
         }
     }
 
@@ -240,7 +449,7 @@ impl<'p> Reader<'p> {
     fn strip_bom<'t>(&mut self, text: &'t str) -> &'t str {
         let stripped = lexer::strip_bom(text);
         if stripped.len() != text.len() {
-            self.builder.note(
+            self.notes.push(
                 "a UTF-8 byte-order mark opens the file: skipped (the lineages' readers \
                  would lose the first block to it)"
                     .to_string(),
@@ -249,10 +458,11 @@ impl<'p> Reader<'p> {
         stripped
     }
 
-    /// Parses the next piece of the file: whole lines (ending in `\n` unless
-    /// `last`). Returns the byte offset where the block still open at its end
-    /// begins, to be fed again in front of the next piece; `text.len()` if none.
-    fn feed(&mut self, text: &str, last: bool) -> usize {
+    /// Reads the next piece of the file: whole lines (ending in `\n` unless
+    /// `last`), each complete block into `out`. Returns the byte offset where
+    /// the block still open at its end begins, to be fed again in front of
+    /// the next piece; `text.len()` if none.
+    fn feed<'t>(&mut self, text: &'t str, last: bool, out: &mut Sink<'t, '_, '_>) -> usize {
         let first_line = self.line;
         let first_diag = self.diags.count();
         let mut lines = 0;
@@ -285,7 +495,7 @@ impl<'p> Reader<'p> {
                         );
                     }
                     if let Some(block) = open.take() {
-                        spare = finish(block, &mut self.builder, &mut self.diags);
+                        spare = out.complete(block, &mut self.marks);
                     }
                     continue;
                 }
@@ -300,11 +510,11 @@ impl<'p> Reader<'p> {
                     Some(format!("add a line `end` before line {}", i + 1)),
                 );
                 if let Some(block) = open.take() {
-                    spare = finish(block, &mut self.builder, &mut self.diags);
+                    spare = out.complete(block, &mut self.marks);
                 }
             }
             if first.text == "end" && self.stops_at_end() {
-                self.builder.note(format!(
+                self.notes.push(format!(
                     "line {}: lazycal's reader stops at a word `end` outside a block: the \
                      rest of the file is not read",
                     i + 1
@@ -376,7 +586,7 @@ impl<'p> Reader<'p> {
                     "this block has no `end`; it ends at the end of the file",
                     Some("add a line `end`".to_string()),
                 );
-                finish(block, &mut self.builder, &mut self.diags);
+                out.complete(block, &mut self.marks);
             } else {
                 // Forget the block's lines: they are read again, whole, with the next piece.
                 self.diags.rollback(mark.diags);
@@ -388,8 +598,9 @@ impl<'p> Reader<'p> {
         carry
     }
 
-    /// The scene, or every error; warnings and errors in file order.
-    fn finish(mut self) -> Result<Scene, SceneError> {
+    /// The scene built by `builder` from the blocks read, or every error;
+    /// warnings and errors in file order.
+    fn finish(mut self, builder: Builder<'_>) -> Result<Scene, SceneError> {
         if let (false, Some(site)) = (self.any_block, self.first_outside) {
             self.diags.error(
                 site,
@@ -401,7 +612,7 @@ impl<'p> Reader<'p> {
             );
             self.diags.share_source_lines();
         }
-        let (choice, warning) = self.builder.evidence.choose(self.dialect);
+        let (choice, warning) = builder.evidence.choose(self.dialect);
         if let Some(w) = warning {
             self.diags.warn(
                 Site {
@@ -414,7 +625,7 @@ impl<'p> Reader<'p> {
             );
         }
         self.diags.settle(choice.dialect);
-        let mut scene = self.builder.finish(choice);
+        let mut scene = builder.finish(choice);
         if let (true, true, Some(site)) = (
             self.any_block,
             scene.objects().is_empty(),
@@ -798,42 +1009,6 @@ fn comment_header(i: usize, line: &Line<'_, '_>, diags: &mut Diags) {
     }
 }
 
-/// Hands a complete block to the builder; returns its vectors, emptied.
-fn finish<'a>(mut block: Open<'a>, builder: &mut Builder<'_>, diags: &mut Diags) -> Spare<'a> {
-    // Numbered here, not at the header: a block read again with the next
-    // piece of the file must not take a second number. Blocks finish in file order.
-    let index = if block.primitive {
-        builder.next_primitive_block()
-    } else {
-        0
-    };
-    builder.evidence.block(
-        block.header.line,
-        block.head,
-        block.type_word,
-        block.entries.iter().map(|e| e.key),
-    );
-    if let Some(line) = block.colon {
-        builder.evidence.colon(line);
-    }
-    match (block.kind, block.type_word) {
-        (Some(kind), _) => builder.block(
-            kind,
-            block.header,
-            &block.entries,
-            &block.values,
-            index,
-            diags,
-        ),
-        (None, Some(_)) if block.colon.is_some() => {}
-        (None, Some(t)) => unknown_type(&block, t, diags),
-        (None, None) => {}
-    }
-    block.entries.clear();
-    block.values.clear();
-    (block.entries, block.values)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -897,18 +1072,26 @@ mod tests {
 
     /// Parses `bytes` as a whole text, then in chunks of every size in
     /// [`SIZES`], and checks every parse gives exactly the same; returns it.
+    /// A pool of `threads` threads: the reader and the builder share one
+    /// thread in a pool of one, and work at once in a pool of two.
+    fn pool(threads: usize) -> rayon::ThreadPool {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("a thread pool")
+    }
+
     fn same_in_chunks(name: &str, bytes: &[u8]) -> Result<Scene, SceneError> {
         let base = Path::new("tests/data");
-        let whole = parse_str(
-            &String::from_utf8_lossy(bytes),
-            Some(mem_path()),
-            base,
-            None,
-        );
+        let (one, two) = (pool(1), pool(2));
+        let text = String::from_utf8_lossy(bytes);
+        let whole = two.install(|| parse_str(&text, Some(mem_path()), base, None));
         for n in SIZES {
-            let chunked = parse_chunked(bytes, mem_path(), base, n, Limits::DEFAULT, None);
-            let d = difference(&whole, &chunked);
+            let read = |n| parse_chunked(bytes, mem_path(), base, n, Limits::DEFAULT, None);
+            let d = difference(&whole, &two.install(|| read(n)));
             assert_eq!(d, None, "{name}, read in chunks of {n} bytes");
+            let d = difference(&whole, &one.install(|| read(n)));
+            assert_eq!(d, None, "{name}, read in chunks of {n} bytes on one thread");
         }
         whole
     }
@@ -1250,11 +1433,13 @@ primitive sphere
 
     #[test]
     fn a_block_read_again_leaves_no_trace() {
-        let mut r = Reader::new(None, Path::new("."), None, true);
+        let mut p = Parse::new(None, Path::new("."), None, true);
         let text = "primitive sphere\n R= 1\nend\nprimitive spere\n R= x\n";
-        let carry = r.feed(text, false);
+        let carry = p.feed(text, false);
         assert_eq!(text.get(carry..), Some("primitive spere\n R= x\n"));
+        let r = &p.reader;
         assert_eq!((r.line, r.diags.count(), r.diags.error_count()), (3, 0, 0));
+        assert_eq!((p.built.count(), p.builder.next_primitive_block()), (0, 1));
     }
 
     #[test]

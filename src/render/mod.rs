@@ -50,7 +50,7 @@ pub use memory::{Encoding, Fit, MemoryNeed};
 pub use options::{Checkpoint, Control, RenderOptions, Stage};
 pub use photons::PhotonStats;
 pub use renderer::Renderer;
-pub use schedule::MAX_THREADS;
+pub use schedule::{MAX_THREADS, with_threads};
 pub use shading_aovs::LIGHT_AOVS_MAX;
 pub use stats::RenderStats;
 pub use tile::{MAX_TILES, TILE_BAND, Tile};

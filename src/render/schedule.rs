@@ -11,7 +11,7 @@ pub(crate) fn workers(threads: Option<usize>) -> usize {
 
 /// Runs `work` on a pool of `threads` workers (at most [`MAX_THREADS`]);
 /// on the default pool for `None`, or when the system refuses to start one.
-pub(crate) fn with_threads<T: Send>(threads: Option<usize>, work: impl FnOnce() -> T + Send) -> T {
+pub fn with_threads<T: Send>(threads: Option<usize>, work: impl FnOnce() -> T + Send) -> T {
     match threads {
         Some(n) => match rayon::ThreadPoolBuilder::new()
             .num_threads(workers(Some(n)))

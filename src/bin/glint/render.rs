@@ -74,7 +74,10 @@ pub fn exec(args: Args, interrupt: &AtomicBool) -> Result<(), Failure> {
     if args.tile.is_none() {
         refuse_scene_as_output(&args.scene, &output)?;
     }
-    let scene = load_scene(&args.scene, args.dialect.dialect, !args.quiet)?;
+    // Read on the render's threads: the reader and the builder work at once when there are two.
+    let scene = glint::with_threads(args.threads, || {
+        load_scene(&args.scene, args.dialect.dialect, !args.quiet)
+    })?;
     // A part of a render writes its tile, not the picture.
     let format = match args.tile {
         None => Some(Format::from_path(&output).map_err(|e| fail(format!("error: {e}")))?),
