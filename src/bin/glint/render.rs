@@ -101,7 +101,8 @@ pub fn exec(args: Args, interrupt: &AtomicBool) -> Result<(), Failure> {
     });
     check_interrupt(interrupt)?;
     let read = start.elapsed();
-    let renderer = Renderer::new(scene);
+    // The tree is built on the render's threads too (the same tree on any number).
+    let renderer = glint::with_threads(args.threads, || Renderer::new(scene));
     if !args.quiet {
         for note in renderer.photon_notes(&options) {
             say(&format!("{}: {note}", args.scene.display()));
