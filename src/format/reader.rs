@@ -811,10 +811,16 @@ fn read_line<'a>(block: &mut Open<'a>, i: usize, line: &Line<'a, '_>, diags: &mu
     };
     let rest = line.words.get(1..).unwrap_or(&[]);
     // The words after `=`: the rest of a word glued to it, then the others.
-    let (key, key_site, glued, rest) = if let Some(eq) = first.text.find('=') {
+    // (A byte search: `=` is ASCII, and a short word is not worth memchr's set-up.)
+    let eq = first.text.bytes().position(|b| b == b'=');
+    let (key, key_site, glued, rest) = if let Some(eq) = eq {
         // `key= v ...` or `key=v ...`.
         let key = &first.text[..eq];
-        let key_chars = key.chars().count();
+        let key_chars = if key.is_ascii() {
+            key.len()
+        } else {
+            key.chars().count()
+        };
         let site = Site {
             line: i,
             col: first.col,
