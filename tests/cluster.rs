@@ -397,16 +397,6 @@ fn a_task_requeued_mid_render_leaves_the_same_tiles() {
         &task,
         || all_tiles() && attempts.join("1").exists(),
         || {
-            let names = |d: &Path| -> Vec<String> {
-                let mut v: Vec<String> = std::fs::read_dir(d)
-                    .into_iter()
-                    .flatten()
-                    .flatten()
-                    .map(|e| e.file_name().to_string_lossy().into_owned())
-                    .collect();
-                v.sort();
-                v
-            };
             format!(
                 "attempts: {:?}, tiles: {:?}\n{}",
                 names(&attempts),

@@ -136,45 +136,17 @@ impl Evidence {
         }
     }
 
-    /// Takes in the markers `marks` found (the blocks' headers and keys),
-    /// beside what the builder found in their values.
+    /// Takes the markers of `marks` (what [`Evidence::block`] and
+    /// [`Evidence::colon`] found, on the reader's side), keeping the values
+    /// found here (spheres, planes, lights, camera keys, on the builder's).
     pub fn absorb(&mut self, marks: Evidence) {
-        let Evidence {
-            colon,
-            object,
-            obj,
-            a18_marker,
-            l17_marker,
-            primitive,
-            camera_dx,
-            polyhedron,
-            v_marker,
-            algorithm,
-            area,
-            f_marker,
-            spheres,
-            planes,
-            brightest,
-            camera_keys,
-        } = marks;
-        self.colon = self.colon.or(colon);
-        self.object = self.object.or(object);
-        self.obj = self.obj.or(obj);
-        self.a18_marker = self.a18_marker.take().or(a18_marker);
-        self.l17_marker = self.l17_marker.take().or(l17_marker);
-        self.primitive = self.primitive.or(primitive);
-        self.camera_dx = self.camera_dx.or(camera_dx);
-        self.polyhedron = self.polyhedron.or(polyhedron);
-        self.v_marker = self.v_marker.take().or(v_marker);
-        self.algorithm = self.algorithm.or(algorithm);
-        self.area = self.area.or(area);
-        self.f_marker = self.f_marker.take().or(f_marker);
-        self.spheres.extend(spheres);
-        self.planes.extend(planes);
-        self.brightest = self.brightest.max(brightest);
-        for key in camera_keys {
-            self.camera_key(key);
-        }
+        *self = Evidence {
+            spheres: std::mem::take(&mut self.spheres),
+            planes: std::mem::take(&mut self.planes),
+            brightest: self.brightest,
+            camera_keys: std::mem::take(&mut self.camera_keys),
+            ..marks
+        };
     }
 
     /// A block whose keys are written `key:`, the first at `line`.

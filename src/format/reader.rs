@@ -337,37 +337,37 @@ impl<'p> Parse<'p> {
             built,
         } = self;
         let (first_line, first_built) = (reader.line, built.count());
-        if rayon::current_num_threads() == 1 {
+        let carry = if rayon::current_num_threads() == 1 {
             let mut out = Sink::Inline {
                 builder,
                 diags: built,
             };
-            let carry = reader.feed(text, last, &mut out);
-            built.fill_source_lines(first_built, text, first_line);
-            return carry;
-        }
-        let (send, batches) = channel::<Vec<Open<'_>>>();
-        let (give_back, back) = channel();
-        let (carry, ()) = rayon::join(
-            || {
-                let mut out = Sink::Batches(Batches::new(send, back));
-                let carry = reader.feed(text, last, &mut out);
-                if let Sink::Batches(mut batches) = out {
-                    batches.flush();
-                }
-                carry
-            },
-            || {
-                for mut batch in batches {
-                    for block in &mut batch {
-                        build(block, builder, built);
-                        block.entries.clear();
-                        block.values.clear();
+            reader.feed(text, last, &mut out)
+        } else {
+            let (send, batches) = channel::<Vec<Open<'_>>>();
+            let (give_back, back) = channel();
+            let (carry, ()) = rayon::join(
+                || {
+                    let mut out = Sink::Batches(Batches::new(send, back));
+                    let carry = reader.feed(text, last, &mut out);
+                    if let Sink::Batches(mut batches) = out {
+                        batches.flush();
                     }
-                    let _ = give_back.send(batch);
-                }
-            },
-        );
+                    carry
+                },
+                || {
+                    for mut batch in batches {
+                        for block in &mut batch {
+                            build(block, builder, built);
+                            block.entries.clear();
+                            block.values.clear();
+                        }
+                        let _ = give_back.send(batch);
+                    }
+                },
+            );
+            carry
+        };
         built.fill_source_lines(first_built, text, first_line);
         carry
     }
@@ -1076,17 +1076,19 @@ mod tests {
         Path::new("tests/data/mem.txt")
     }
 
-    /// Parses `bytes` as a whole text, then in chunks of every size in
-    /// [`SIZES`], and checks every parse gives exactly the same; returns it.
     /// A pool of `threads` threads: the reader and the builder share one
     /// thread in a pool of one, and work at once in a pool of two.
     fn pool(threads: usize) -> rayon::ThreadPool {
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
+            // invariant: the test machine starts two threads (every render test needs them).
             .expect("a thread pool")
     }
 
+    /// Parses `bytes` as a whole text on two threads, then in chunks of
+    /// every size in [`SIZES`] on two threads and on one, and checks every
+    /// parse gives exactly the same; returns it.
     fn same_in_chunks(name: &str, bytes: &[u8]) -> Result<Scene, SceneError> {
         let base = Path::new("tests/data");
         let (one, two) = (pool(1), pool(2));

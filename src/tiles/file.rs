@@ -348,6 +348,7 @@ mod tests {
 
     fn tile() -> TileFile {
         let text = include_str!("../../tests/data/events.txt");
+        // invariant: the project's own test scene parses (tests/render.rs renders it too).
         let renderer = Renderer::new(Scene::parse(text, ".").expect("the test's scene parses"));
         let options = RenderOptions {
             width: Some(12),
@@ -359,6 +360,7 @@ mod tests {
         };
         let command = vec!["glint".to_string(), "render".to_string()];
         TileFile::render(&renderer, &options, Control::default(), command)
+            // invariant: a 12×70 part of that scene, never cancelled, renders.
             .expect("renders")
             .0
     }
@@ -383,7 +385,9 @@ mod tests {
         }
         // A header that lies, with a checksum that matches: refused, no
         // allocation of what it claims.
+        // invariant: a slice of 8 bytes makes a [u8; 8].
         let len = u64::from_le_bytes(bytes[12..20].try_into().expect("8 bytes")) as usize;
+        // invariant: `encode` writes the header as JSON text, checked by the decode above.
         let header = std::str::from_utf8(&bytes[20..20 + len]).expect("a JSON header");
         assert!(header.contains("[0,32,12,32]"), "{header}");
         let lie = header.replace("[0,32,12,32]", "[0,32,12,4000000000]");
