@@ -1,12 +1,13 @@
 //! The binned-SAH build: a first pass plans the tree's shape (in parallel
-//! for large subtrees), a second writes its nodes into an array of exactly
-//! their size; the result does not depend on the number of threads.
+//! for large subtrees), binning each node on its centroids' widest axis, a
+//! second writes its nodes into an array of exactly their size; the result
+//! does not depend on the number of threads.
 
 use super::bvh::{Bvh, NO_LEAF};
 use super::node::{EMPTY, Item, Node, Pair, half_area, union};
 use super::walk::STACK_SIZE;
 
-/// Bins per axis for the surface area heuristic.
+/// Bins on a node's split axis for the surface area heuristic.
 const BINS: usize = 16;
 /// Leaves never hold more primitives than this.
 pub(super) const MAX_LEAF: usize = 8;
@@ -94,6 +95,12 @@ impl Extents {
     #[inline(always)]
     fn grow(&mut self, it: &Item) {
         union(&mut self.bounds, &it.bounds);
+        self.grow_centroids(it);
+    }
+
+    /// Grows the centroids' extent alone.
+    #[inline(always)]
+    fn grow_centroids(&mut self, it: &Item) {
         let c = [it.centroid(0), it.centroid(1), it.centroid(2)];
         union(&mut self.cent, &[c[0], c[1], c[2], c[0], c[1], c[2]]);
     }
@@ -300,86 +307,89 @@ pub(super) fn split(
         return None;
     }
     let cent = &ext.cent;
-    if depth < SAH_MAX_DEPTH {
+    // The widest axis of the centroids (the first of equals): bins on it
+    // alone, as pbrt does, cost a third of binning all three.
+    let mut axis = 0;
+    for a in 1..3 {
+        if cent[a + 3] - cent[a] > cent[axis + 3] - cent[axis] {
+            axis = a;
+        }
+    }
+    let width = cent[axis + 3] - cent[axis];
+    if depth < SAH_MAX_DEPTH && width > 0.0 {
         // Fewer bins for small nodes: binning costs little, evaluating bins does.
         let bins_used = n.clamp(4, BINS);
-        // Bin index of a centroid on each axis: ((lo + hi) / 2 - cmin) * bins / width,
-        // folded into one multiply-add; usable axes have scale > 0.
-        let mut scale = [0f32; 3];
-        let mut shift = [0f32; 3];
-        for a in 0..3 {
-            let width = cent[a + 3] - cent[a];
-            if width > 0.0 {
-                scale[a] = 0.5 * bins_used as f32 / width;
-                shift[a] = cent[a] * (2.0 * scale[a]);
-            }
-        }
-        let bin_of = |it: &Item, a: usize| -> usize {
-            let k = (it.bounds[a] + it.bounds[a + 3]) * scale[a] - shift[a];
+        // Bin index of a centroid: ((lo + hi) / 2 - cmin) * bins / width,
+        // folded into one multiply-add.
+        let scale = 0.5 * bins_used as f32 / width;
+        let shift = cent[axis] * (2.0 * scale);
+        let a = axis;
+        let bin_of = |it: &Item| -> usize {
+            let k = (it.bounds[a] + it.bounds[a + 3]) * scale - shift;
             // Saturating cast: negatives go to 0; the clamp catches the top edge.
             (k as usize).min(bins_used - 1)
         };
-        let mut bins = [[Bin {
+        let mut bins = [Bin {
             bounds: EMPTY,
             count: 0,
-        }; BINS]; 3];
+        }; BINS];
         for it in items.iter() {
-            for a in 0..3 {
-                if scale[a] > 0.0 {
-                    let bin = &mut bins[a][bin_of(it, a)];
-                    union(&mut bin.bounds, &it.bounds);
-                    bin.count += 1;
-                }
-            }
+            let bin = &mut bins[bin_of(it)];
+            union(&mut bin.bounds, &it.bounds);
+            bin.count += 1;
         }
         // Cost (half area x count of both sides) of splitting after bin i.
-        let mut best: Option<(f64, usize, usize)> = None;
-        for a in 0..3 {
-            if scale[a] <= 0.0 {
+        // The sides' boxes are kept: the union of their bins' is that of their items'.
+        let mut best: Option<(f64, usize, [f32; 6])> = None;
+        let mut right_cost = [0f64; BINS];
+        let mut right_count = [0u32; BINS];
+        let mut right_bounds = [EMPTY; BINS];
+        let mut acc = EMPTY;
+        let mut count = 0;
+        for i in (1..bins_used).rev() {
+            union(&mut acc, &bins[i].bounds);
+            count += bins[i].count;
+            right_cost[i] = half_area(&acc) * count as f64;
+            right_count[i] = count;
+            right_bounds[i] = acc;
+        }
+        let mut acc = EMPTY;
+        let mut count = 0;
+        for i in 0..bins_used - 1 {
+            union(&mut acc, &bins[i].bounds);
+            count += bins[i].count;
+            if count == 0 || right_count[i + 1] == 0 {
                 continue;
             }
-            let mut right_cost = [0f64; BINS];
-            let mut right_count = [0u32; BINS];
-            let mut acc = EMPTY;
-            let mut count = 0;
-            for i in (1..bins_used).rev() {
-                union(&mut acc, &bins[a][i].bounds);
-                count += bins[a][i].count;
-                right_cost[i] = half_area(&acc) * count as f64;
-                right_count[i] = count;
-            }
-            let mut acc = EMPTY;
-            let mut count = 0;
-            for i in 0..bins_used - 1 {
-                union(&mut acc, &bins[a][i].bounds);
-                count += bins[a][i].count;
-                if count == 0 || right_count[i + 1] == 0 {
-                    continue;
-                }
-                let cost = half_area(&acc) * count as f64 + right_cost[i + 1];
-                if best.is_none_or(|(c, _, _)| cost < c) {
-                    best = Some((cost, a, i));
-                }
+            let cost = half_area(&acc) * count as f64 + right_cost[i + 1];
+            if best.is_none_or(|(c, _, _)| cost < c) {
+                best = Some((cost, i, acc));
             }
         }
-        if let Some((cost, a, i)) = best {
+        if let Some((cost, i, left_bounds)) = best {
             let area = half_area(&ext.bounds);
             let split_pays = TRAVERSAL_COST * area + cost < n as f64 * area;
             if !split_pays && n <= MAX_LEAF {
                 return None;
             }
             // Both sides are non-empty: the counts above came from the same bin_of.
-            let mut left = Extents::EMPTY;
-            let mut right = Extents::EMPTY;
+            let mut left = Extents {
+                bounds: left_bounds,
+                cent: EMPTY,
+            };
+            let mut right = Extents {
+                bounds: right_bounds[i + 1],
+                cent: EMPTY,
+            };
             let mut lo = 0;
             let mut hi = n;
             while lo < hi {
                 let it = items[lo];
-                if bin_of(&it, a) <= i {
-                    left.grow(&it);
+                if bin_of(&it) <= i {
+                    left.grow_centroids(&it);
                     lo += 1;
                 } else {
-                    right.grow(&it);
+                    right.grow_centroids(&it);
                     hi -= 1;
                     items.swap(lo, hi);
                 }
@@ -391,12 +401,6 @@ pub(super) fn split(
         return None;
     }
     // Inseparable centroids or too deep: median split on the widest centroid axis.
-    let mut axis = 0;
-    for a in 1..3 {
-        if cent[a + 3] - cent[a] > cent[axis + 3] - cent[axis] {
-            axis = a;
-        }
-    }
     let mid = n / 2;
     items.select_nth_unstable_by(mid, |p, q| p.centroid(axis).total_cmp(&q.centroid(axis)));
     Some((mid, Extents::of(&items[..mid]), Extents::of(&items[mid..])))
