@@ -381,20 +381,28 @@ pub(super) fn split(
                 bounds: right_bounds[i + 1],
                 cent: EMPTY,
             };
-            let mut lo = 0;
-            let mut hi = n;
-            while lo < hi {
-                let it = items[lo];
-                if bin_of(&it) <= i {
-                    left.grow_centroids(&it);
+            // Hoare's partition: each item is read once, and only pairs on
+            // the wrong sides move.
+            let (mut lo, mut hi) = (0, n);
+            loop {
+                while lo < hi && bin_of(&items[lo]) <= i {
+                    left.grow_centroids(&items[lo]);
                     lo += 1;
-                } else {
-                    right.grow_centroids(&it);
-                    hi -= 1;
-                    items.swap(lo, hi);
                 }
+                while lo < hi && bin_of(&items[hi - 1]) > i {
+                    right.grow_centroids(&items[hi - 1]);
+                    hi -= 1;
+                }
+                if lo == hi {
+                    return Some((lo, left, right));
+                }
+                // items[lo] goes right and items[hi - 1] left.
+                items.swap(lo, hi - 1);
+                left.grow_centroids(&items[lo]);
+                right.grow_centroids(&items[hi - 1]);
+                lo += 1;
+                hi -= 1;
             }
-            return Some((lo, left, right));
         }
     }
     if n <= MAX_LEAF {
