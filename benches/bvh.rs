@@ -1,10 +1,12 @@
 //! Hierarchy build time and traversal throughput.
 //!
-//! `cargo bench --bench bvh`; prints bytes per primitive of each structure.
+//! `cargo bench --bench bvh`; prints bytes per primitive of each structure,
+//! and the nodes visited and primitives tested per query (the tree's
+//! quality, counted, free of the machine's noise).
 
 use criterion::{BatchSize, BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use glam::DVec3;
-use glint::accel::Accel;
+use glint::accel::{Accel, QueryCost};
 use glint::geometry::{Ray, Shape, Sphere, Triangle, offset_origin};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
@@ -245,6 +247,35 @@ fn traverse(c: &mut Criterion) {
         // Shadow rays from the tiles' hits: walked from the root, then up
         // from the leaf of the surface they leave.
         let from_hits = shadow_rays(&accel, objects, &tiles);
+        let mut costs = [QueryCost::default(); 4];
+        for r in &rays {
+            accel.intersect_tallied(r, f64::INFINITY, &mut costs[0]);
+        }
+        for (r, t) in &shadow {
+            accel.occluded_hinted(r, *t, None, None, &mut None, &mut costs[1]);
+        }
+        for r in &tiles {
+            accel.intersect_tallied(r, f64::INFINITY, &mut costs[2]);
+        }
+        for (r, t, i) in &from_hits {
+            accel.occluded_hinted(r, *t, None, Some(*i), &mut None, &mut costs[3]);
+        }
+        let counts = [rays.len(), shadow.len(), tiles.len(), from_hits.len()];
+        let per = |k: usize| {
+            let n = counts[k].max(1) as f64;
+            format!(
+                "{:.2} {:.2}",
+                costs[k].nodes as f64 / n,
+                costs[k].tests as f64 / n
+            )
+        };
+        eprintln!(
+            "{name}: nodes and tests per query: closest hit {}, any hit {}, camera tiles {}, shadow from the leaf {}",
+            per(0),
+            per(1),
+            per(2),
+            per(3),
+        );
         g.throughput(Throughput::Elements(from_hits.len() as u64));
         g.bench_function(BenchmarkId::new("shadow-from-root", name), |b| {
             b.iter(|| {
