@@ -323,9 +323,8 @@ pub(super) fn split(
         // folded into one multiply-add.
         let scale = 0.5 * bins_used as f32 / width;
         let shift = cent[axis] * (2.0 * scale);
-        let a = axis;
         let bin_of = |it: &Item| -> usize {
-            let k = (it.bounds[a] + it.bounds[a + 3]) * scale - shift;
+            let k = (it.bounds[axis] + it.bounds[axis + 3]) * scale - shift;
             // Saturating cast: negatives go to 0; the clamp catches the top edge.
             (k as usize).min(bins_used - 1)
         };
