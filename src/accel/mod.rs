@@ -22,10 +22,12 @@ mod tests;
 mod walk;
 
 use crate::geometry::{Hit, Ray, Shape};
+use build::PARALLEL_MIN;
 use bvh::Bvh;
 use glam::DVec3;
 use hull::Hull;
 use node::Item;
+use rayon::prelude::*;
 pub use tally::{QueryCost, QueryTally};
 
 /// Rays in one packet at most (longer slices are split).
@@ -81,16 +83,26 @@ pub struct Accel<P> {
 
 impl<P: Primitive> Accel<P> {
     /// Builds the structure over `objects` (indices into it are returned by queries).
-    pub fn build(objects: Vec<P>) -> Self {
-        // Sequential, into one exact allocation: a parallel collect goes
-        // through temporary pieces that can stay resident and raise the peak.
-        let mut items = Vec::with_capacity(objects.len());
-        items.extend(
-            objects
-                .iter()
-                .enumerate()
-                .filter_map(|(i, o)| Item::new(i as u32, &o.shape().bounds()?)),
-        );
+    pub fn build(objects: Vec<P>) -> Self
+    where
+        P: Sync,
+    {
+        // In parallel into one exact allocation (an indexed collect writes
+        // in place: no temporary pieces to stay resident and raise the
+        // peak), the objects left out marked, then dropped in place.
+        let mut items = Vec::new();
+        objects
+            .par_iter()
+            .with_min_len(PARALLEL_MIN)
+            .enumerate()
+            .map(|(i, o)| {
+                let bounds = o.shape().bounds();
+                bounds
+                    .and_then(|b| Item::new(i as u32, &b))
+                    .unwrap_or(Item::LEFT_OUT)
+            })
+            .collect_into_vec(&mut items);
+        items.retain(|it| !it.left_out());
         // The objects left out, in order: the gaps between the items' indices.
         let mut unbounded = Vec::new();
         let mut next = 0;

@@ -63,6 +63,17 @@ impl Item {
         Some(Item { bounds, index })
     }
 
+    /// A placeholder for an object kept out of the tree.
+    pub(crate) const LEFT_OUT: Item = Item {
+        bounds: EMPTY,
+        index: u32::MAX,
+    };
+
+    /// Whether this is [`Item::LEFT_OUT`].
+    pub(crate) fn left_out(&self) -> bool {
+        self.index == u32::MAX
+    }
+
     /// Index of the primitive in the caller's list.
     pub(crate) fn index(&self) -> u32 {
         self.index
