@@ -789,7 +789,7 @@ fn huge_and_tiny_objects_mixed() {
     let accel = Accel::build(objects.to_vec());
     for (i, o) in objects.iter().enumerate().skip(6).step_by(2).take(500) {
         let Shape::Sphere(s) = &o.shape else {
-            unreachable!()
+            unreachable!() // invariant: the test built every object as a sphere
         };
         let ray = Ray::new(
             DVec3::new(0.5, 0.25, 0.125),
@@ -814,7 +814,7 @@ fn geometric_progression_builds_a_deep_tree() {
     let mut rng = Pcg64::seed_from_u64(16);
     for (i, o) in objects.iter().enumerate() {
         let Shape::Sphere(s) = &o.shape else {
-            unreachable!()
+            unreachable!() // invariant: the test built every object as a sphere
         };
         for _ in 0..4 {
             let from = s.center + unit_vector(&mut rng) * s.radius * 3.0;
