@@ -96,10 +96,8 @@ impl<P: Primitive> Accel<P> {
             .with_min_len(PARALLEL_MIN)
             .enumerate()
             .map(|(i, o)| {
-                let bounds = o.shape().bounds();
-                bounds
-                    .and_then(|b| Item::new(i as u32, &b))
-                    .unwrap_or(Item::LEFT_OUT)
+                let item = o.shape().bounds().and_then(|b| Item::new(i as u32, &b));
+                item.unwrap_or(Item::LEFT_OUT)
             })
             .collect_into_vec(&mut items);
         items.retain(|it| !it.left_out());

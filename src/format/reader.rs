@@ -174,6 +174,16 @@ struct Open<'a> {
 /// A finished block's vectors, emptied, for the next block.
 type Spare<'a> = (Vec<Entry<'a>>, Vec<Word<'a>>);
 
+impl<'a> Open<'a> {
+    /// Its vectors, emptied, for the next block (once it is built).
+    fn into_spare(self) -> Spare<'a> {
+        let (mut entries, mut values) = (self.entries, self.values);
+        entries.clear();
+        values.clear();
+        (entries, values)
+    }
+}
+
 /// Where the block still open began, and the state just before its header,
 /// to read it again from there with the next piece of text.
 #[derive(Clone, Copy, Default)]
@@ -191,8 +201,8 @@ struct Mark {
 const BATCH: usize = 256;
 
 /// Where the reader puts the blocks it completes: batches sent to the
-/// builder, which come back with the blocks' vectors emptied, for more
-/// blocks.
+/// builder, which come back once built, their blocks' vectors emptied
+/// for more blocks.
 struct Batches<'a> {
     current: Vec<Open<'a>>,
     send: Sender<Vec<Open<'a>>>,
@@ -221,8 +231,7 @@ impl<'a> Batches<'a> {
         if self.spares.is_empty()
             && let Ok(batch) = self.back.try_recv()
         {
-            self.spares
-                .extend(batch.into_iter().map(|d| (d.entries, d.values)));
+            self.spares.extend(batch.into_iter().map(Open::into_spare));
         }
         self.spares.pop().unwrap_or_default()
     }
@@ -265,10 +274,7 @@ impl<'a> Sink<'a, '_, '_> {
         match self {
             Sink::Inline { builder, diags } => {
                 build(&block, builder, diags);
-                let (mut entries, mut values) = (block.entries, block.values);
-                entries.clear();
-                values.clear();
-                (entries, values)
+                block.into_spare()
             }
             Sink::Batches(batches) => batches.push(block),
         }
@@ -356,11 +362,9 @@ impl<'p> Parse<'p> {
                     carry
                 },
                 || {
-                    for mut batch in batches {
-                        for block in &mut batch {
+                    for batch in batches {
+                        for block in &batch {
                             build(block, builder, built);
-                            block.entries.clear();
-                            block.values.clear();
                         }
                         let _ = give_back.send(batch);
                     }

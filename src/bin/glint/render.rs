@@ -74,35 +74,36 @@ pub fn exec(args: Args, interrupt: &AtomicBool) -> Result<(), Failure> {
     if args.tile.is_none() {
         refuse_scene_as_output(&args.scene, &output)?;
     }
-    // Read on the render's threads: the reader and the builder work at once when there are two.
-    let scene = glint::with_threads(args.threads, || {
-        load_scene(&args.scene, args.dialect.dialect, !args.quiet)
-    })?;
-    // A part of a render writes its tile, not the picture.
-    let format = match args.tile {
-        None => Some(Format::from_path(&output).map_err(|e| fail(format!("error: {e}")))?),
-        Some(_) => None,
-    };
-    if args.verbose {
-        for note in scene.notes() {
-            say(&format!("note: {note}"));
+    // Read and build the tree on the render's threads (one pool for both):
+    // the reader and the builder work at once when there are two, and the
+    // tree is the same on any number.
+    let (format, options, read, renderer) = glint::with_threads(args.threads, || {
+        let scene = load_scene(&args.scene, args.dialect.dialect, !args.quiet)?;
+        // A part of a render writes its tile, not the picture.
+        let format = match args.tile {
+            None => Some(Format::from_path(&output).map_err(|e| fail(format!("error: {e}")))?),
+            Some(_) => None,
+        };
+        if args.verbose {
+            for note in scene.notes() {
+                say(&format!("note: {note}"));
+            }
         }
-    }
-    let options = args.pixels.apply(RenderOptions {
-        threads: args.threads,
-        region: args.picture.region(),
-        aovs: args
-            .picture
-            .aovs()
-            .map_err(|e| fail(format!("error: {e}")))?,
-        photons: args.photons.options(),
-        tile: args.tile,
-        ..RenderOptions::default()
-    });
-    check_interrupt(interrupt)?;
-    let read = start.elapsed();
-    // The tree is built on the render's threads too (the same tree on any number).
-    let renderer = glint::with_threads(args.threads, || Renderer::new(scene));
+        let options = args.pixels.apply(RenderOptions {
+            threads: args.threads,
+            region: args.picture.region(),
+            aovs: args
+                .picture
+                .aovs()
+                .map_err(|e| fail(format!("error: {e}")))?,
+            photons: args.photons.options(),
+            tile: args.tile,
+            ..RenderOptions::default()
+        });
+        check_interrupt(interrupt)?;
+        let read = start.elapsed();
+        Ok::<_, Failure>((format, options, read, Renderer::new(scene)))
+    })?;
     if !args.quiet {
         for note in renderer.photon_notes(&options) {
             say(&format!("{}: {note}", args.scene.display()));
