@@ -361,7 +361,7 @@ fn obvhs_nearest(bvh: &obvhs::cwbvh::CwBvh, objects: &[Object], r: &Ray) -> Opti
     best
 }
 
-/// glint's binary BVH beside obvhs's CWBVH (PLOC build, 8-wide compressed
+/// glint's wide BVH beside obvhs's CWBVH (PLOC build, 8-wide compressed
 /// nodes, SIMD node tests) on the same rays, the primitives tested exactly
 /// by glint in both; prints the build times and the rays whose answers differ.
 fn obvhs_side_by_side(c: &mut Criterion) {

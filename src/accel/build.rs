@@ -3,7 +3,7 @@
 //! second writes its nodes into an array of exactly their size; the result
 //! does not depend on the number of threads.
 
-use super::bvh::{Bvh, NO_LEAF};
+use super::bvh::Binary;
 use super::node::{EMPTY, Item, Node, Pair, half_area, union};
 use super::walk::STACK_SIZE;
 
@@ -24,13 +24,13 @@ const _: () = assert!(SAH_MAX_DEPTH + 32 < STACK_SIZE);
 /// Subtrees with at least this many primitives build their halves in parallel.
 pub(super) const PARALLEL_MIN: usize = 4096;
 
-impl Bvh {
+impl Binary {
     /// Builds the tree over `items`; the result does not depend on the
     /// number of threads, and the build needs little beyond the items and
     /// the final arrays.
-    pub(crate) fn build(mut items: Vec<Item>, primitives: usize) -> Bvh {
+    pub(crate) fn build(mut items: Vec<Item>) -> Binary {
         if items.is_empty() {
-            return Bvh::default();
+            return Binary::default();
         }
         // Two passes keep the peak at the items plus the final arrays: the
         // first splits and keeps only the tree's shape (a byte a node), the
@@ -46,37 +46,7 @@ impl Bvh {
         drop(plan);
         let prims = items.iter().map(|it| it.index).collect();
         drop(items);
-        let mut bvh = Bvh {
-            pairs,
-            prims,
-            parent: Vec::new(),
-            leaf_of: Vec::new(),
-        };
-        bvh.link(primitives);
-        bvh
-    }
-
-    /// Fills the upward links: each pair's parent and each primitive's leaf
-    /// (`primitives` bounds the primitive indices).
-    fn link(&mut self, primitives: usize) {
-        let mut parent = vec![0u32; self.pairs.len()];
-        let mut leaf_of = vec![NO_LEAF; primitives];
-        // Node ids run over both slots of every pair but the root's unused one.
-        for k in (0..2 * self.pairs.len() as u32).filter(|&k| k != 1) {
-            let node = self.node(k);
-            let s = node.start as usize;
-            if node.count == 0 {
-                parent[s >> 1] = k;
-            } else {
-                for &p in &self.prims[s..s + node.count as usize] {
-                    if let Some(slot) = leaf_of.get_mut(p as usize) {
-                        *slot = k;
-                    }
-                }
-            }
-        }
-        self.parent = parent;
-        self.leaf_of = leaf_of;
+        Binary { pairs, prims }
     }
 }
 

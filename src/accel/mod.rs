@@ -12,6 +12,7 @@
 
 mod build;
 mod bvh;
+mod collapse;
 mod hull;
 mod node;
 mod packet;

@@ -135,3 +135,51 @@ pub(super) fn half_area(b: &[f32; 6]) -> f64 {
         d[0] * d[1] + d[1] * d[2] + d[2] * d[0]
     }
 }
+
+/// Children of a node of the wide tree, the width of its box tests.
+pub(crate) const WIDTH: usize = 4;
+
+/// [`Wide::child`] of an unused slot.
+pub(crate) const NO_CHILD: u32 = u32::MAX;
+
+/// A node of the wide tree single rays walk: its children's boxes axis by
+/// axis (lane k is child k), so one pass tests them all. A child is a leaf
+/// (`count` > 0 primitives from `child` in [`Bvh::prims`]), another node
+/// (`count` 0, `child` its index), or unused ([`NO_CHILD`], an empty box).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C, align(64))]
+pub(crate) struct Wide {
+    /// Per axis, the children's lowest coordinates (f32, rounded outward).
+    pub lo: [[f32; WIDTH]; 3],
+    /// Per axis, the children's highest coordinates.
+    pub hi: [[f32; WIDTH]; 3],
+    /// Per child: a node's index, a leaf's first entry, or [`NO_CHILD`].
+    pub child: [u32; WIDTH],
+    /// Per child: a leaf's primitive count, else 0.
+    pub count: [u32; WIDTH],
+}
+
+impl Wide {
+    /// A node with every slot unused.
+    pub(crate) const EMPTY: Wide = Wide {
+        lo: [[f32::INFINITY; WIDTH]; 3],
+        hi: [[f32::NEG_INFINITY; WIDTH]; 3],
+        child: [NO_CHILD; WIDTH],
+        count: [0; WIDTH],
+    };
+
+    /// The box of child `k`, as in [`Node::bounds`].
+    #[inline(always)]
+    pub(crate) fn bounds(&self, k: usize) -> [f32; 6] {
+        let (lo, hi) = (&self.lo, &self.hi);
+        [lo[0][k], lo[1][k], lo[2][k], hi[0][k], hi[1][k], hi[2][k]]
+    }
+
+    /// Sets child `k`'s box.
+    pub(crate) fn set_bounds(&mut self, k: usize, b: &[f32; 6]) {
+        for a in 0..3 {
+            self.lo[a][k] = b[a];
+            self.hi[a][k] = b[a + 3];
+        }
+    }
+}

@@ -4,7 +4,8 @@
 //! whole packet skips a box that lies outside all of them at once. Each
 //! answer is exactly that of [`Accel::intersect`] for the same ray.
 
-use super::node::{Node, Pair};
+use super::bvh::split_slot;
+use super::node::{NO_CHILD, WIDTH};
 use super::ray_box::{FAR_SLACK, MISS, RayBox, max_num, min_num};
 use super::walk::STACK_SIZE;
 use super::{Accel, PACKET_MAX, Primitive};
@@ -43,7 +44,7 @@ impl<P: Primitive> Accel<P> {
     ) {
         let n = rays.len().min(PACKET_MAX);
         let bvh = &self.bvh;
-        let (Some(Pair([root, _])), Some(last)) = (bvh.pairs.first(), n.checked_sub(1)) else {
+        let Some(last) = n.checked_sub(1).filter(|_| !bvh.wide.is_empty()) else {
             return;
         };
         // Slots past n repeat the last ray; they are never tested.
@@ -55,8 +56,7 @@ impl<P: Primitive> Accel<P> {
         // Children are visited in the order their centres lie along the
         // packet's mean direction: near first, for most of its rays.
         let dir: DVec3 = rays[..n].iter().map(|r| r.dir).sum();
-        let along = |node: &Node| {
-            let b = node.bounds;
+        let along = |b: &[f32; 6]| {
             (b[0] + b[3]) as f64 * dir.x
                 + (b[1] + b[4]) as f64 * dir.y
                 + (b[2] + b[5]) as f64 * dir.z
@@ -64,32 +64,31 @@ impl<P: Primitive> Accel<P> {
         // The farthest any ray may still reach: never below any ray's limit.
         let farthest = |t: &[f64; PACKET_MAX]| t[..n].iter().fold(0.0, |a: f64, &x| max_num(x, a));
         let mut t_all = farthest(t);
-        // Pending nodes with the first ray that may enter them; one push per
-        // level, and the tree is shallower than STACK_SIZE.
-        let mut stack = [(0u32, 0u32); STACK_SIZE];
+        // Pending subtrees (slots) with the first ray that may enter them;
+        // WIDTH − 1 pushes a level, and the tree is shallower than STACK_SIZE.
+        let mut stack = [(0u32, 0u32); WIDTH * STACK_SIZE];
+        let mask = WIDTH * STACK_SIZE - 1;
         let mut sp = 0;
-        let mut node = root;
+        // The subtree visited: its box, and its node (count 0) or leaf.
+        let (mut bounds, mut child, mut count) = (bvh.root, 0, 0);
         let mut first = 0;
         'walk: loop {
             'visit: {
-                if frustum
-                    .as_ref()
-                    .is_some_and(|f| f.misses(&node.bounds, t_all))
-                {
+                if frustum.as_ref().is_some_and(|f| f.misses(&bounds, t_all)) {
                     break 'visit;
                 }
                 // Rays before the first that enters this box miss all of its
                 // descendants too: their boxes lie inside it, and limits only fall.
-                let Some(i) = (first..n).find(|&j| rb[j].entry(&node.bounds, t[j]) != MISS) else {
+                let Some(i) = (first..n).find(|&j| rb[j].entry(&bounds, t[j]) != MISS) else {
                     break 'visit;
                 };
-                if node.count > 0 {
-                    let s = node.start as usize;
-                    let prims = &bvh.prims[s..s + node.count as usize];
+                if count > 0 {
+                    let s = child as usize;
+                    let prims = &bvh.prims[s..s + count as usize];
                     // Only a ray that had the farthest limit can lower it.
                     let mut lowered = false;
                     for j in i..n {
-                        if j == i || rb[j].entry(&node.bounds, t[j]) != MISS {
+                        if j == i || rb[j].entry(&bounds, t[j]) != MISS {
                             let before = t[j];
                             leaf(j, prims, &mut t[j]);
                             lowered |= before == t_all && t[j] < before;
@@ -100,11 +99,28 @@ impl<P: Primitive> Accel<P> {
                     }
                     break 'visit;
                 }
-                let pair = &bvh.pairs[node.start as usize >> 1].0;
-                let near = (along(&pair[1]) < along(&pair[0])) as usize;
-                stack[sp & (STACK_SIZE - 1)] = (node.start + (near ^ 1) as u32, i as u32);
-                sp += 1;
-                node = &pair[near];
+                // The children, nearest first: push the others farthest
+                // first, go to the nearest.
+                let w = child as usize;
+                let node = &bvh.wide[w];
+                let used = node.child.iter().take_while(|&&c| c != NO_CHILD).count();
+                let mut key = [0.0; WIDTH];
+                let mut order = [0; WIDTH];
+                for k in 0..used {
+                    key[k] = along(&node.bounds(k));
+                    let mut j = k;
+                    while j > 0 && key[order[j - 1]] > key[k] {
+                        order[j] = order[j - 1];
+                        j -= 1;
+                    }
+                    order[j] = k;
+                }
+                for &k in order[1..used].iter().rev() {
+                    stack[sp & mask] = ((w * WIDTH + k) as u32, i as u32);
+                    sp += 1;
+                }
+                let k = order[0];
+                (bounds, child, count) = (node.bounds(k), node.child[k], node.count[k]);
                 first = i;
                 continue 'walk;
             }
@@ -112,8 +128,10 @@ impl<P: Primitive> Accel<P> {
                 return;
             }
             sp -= 1;
-            let (id, f) = stack[sp & (STACK_SIZE - 1)];
-            node = bvh.node(id);
+            let (slot, f) = stack[sp & mask];
+            let (w, k) = split_slot(slot);
+            let node = &bvh.wide[w];
+            (bounds, child, count) = (node.bounds(k), node.child[k], node.count[k]);
             first = f as usize;
         }
     }

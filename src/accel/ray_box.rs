@@ -1,6 +1,7 @@
 //! The ray–box slab test in f64 against f32 boxes, with slack on the far
 //! side so rounding never turns a hit into a miss.
 
+use super::node::{WIDTH, Wide};
 use crate::geometry::Ray;
 
 /// Relative slack on the far distance of a box test: absorbs the rounding
@@ -70,6 +71,38 @@ impl RayBox {
         let t0 = max_num(tz0, max_num(ty0, max_num(tx0, 0.0)));
         let t1 = min_num(tz1, min_num(ty1, min_num(tx1, t_best)));
         if t0 <= t1 * FAR_SLACK { t0 } else { MISS }
+    }
+}
+
+impl RayBox {
+    /// [`RayBox::entry`] of each child box of `node` at once: lane k is
+    /// exactly what `entry` gives for child k's box (the same operations in
+    /// the same order), [`MISS`] for an unused slot.
+    #[inline(always)]
+    pub(crate) fn entries(&self, node: &Wide, t_best: f64) -> [f64; WIDTH] {
+        let mut t0 = [0.0; WIDTH];
+        let mut t1 = [t_best; WIDTH];
+        for a in 0..3 {
+            let (near, far) = if self.near[a] == 0 {
+                (&node.lo[a], &node.hi[a])
+            } else {
+                (&node.hi[a], &node.lo[a])
+            };
+            let (o, inv) = (self.origin[a], self.inv_dir[a]);
+            for k in 0..WIDTH {
+                t0[k] = max_num((near[k] as f64 - o) * inv, t0[k]);
+                t1[k] = min_num((far[k] as f64 - o) * inv, t1[k]);
+            }
+        }
+        let mut t = [MISS; WIDTH];
+        for k in 0..WIDTH {
+            t[k] = if t0[k] <= t1[k] * FAR_SLACK {
+                t0[k]
+            } else {
+                MISS
+            };
+        }
+        t
     }
 }
 

@@ -1,9 +1,9 @@
 //! The BVH's build, layout and walks against brute force and hand cases.
 
 use super::build::{Extents, MAX_LEAF, PARALLEL_MIN, SAH_MAX_DEPTH, split};
-use super::bvh::{Bvh, NO_LEAF};
+use super::bvh::{Binary, Bvh, NO_LEAF, ROOT, split_slot};
 use super::hull::Hull;
-use super::node::{Item, Node, Pair, f32_down, f32_up};
+use super::node::{Item, NO_CHILD, Node, Pair, WIDTH, Wide, f32_down, f32_up};
 use super::ray_box::{MISS, RayBox};
 use super::walk::STACK_SIZE;
 use crate::accel::QueryCost;
@@ -169,7 +169,7 @@ fn f32_rounding_is_outward() {
 }
 
 /// Depth of the deepest leaf, and checks every primitive is in exactly one leaf.
-fn depth_and_coverage(bvh: &Bvh, n: usize) -> usize {
+fn depth_and_coverage(bvh: &Binary, n: usize) -> usize {
     let mut seen = vec![0u32; n];
     let mut max_depth = 0;
     let mut todo = vec![(0u32, 0usize)];
@@ -197,15 +197,19 @@ fn depth_and_coverage(bvh: &Bvh, n: usize) -> usize {
     max_depth
 }
 
-/// A walk that no leaf stops or shortens visits exactly the nodes whose
-/// boxes the ray enters (a child's box lies in its parent's), and tests
-/// the primitives of those that are leaves: counted by brute force over
-/// every node.
+/// A walk that no leaf stops or shortens visits the root (if the ray enters
+/// the tree's box) and exactly the
+/// children (nodes and leaves) whose boxes the ray enters (a child's box
+/// lies in its parent's), and tests the primitives of those that are
+/// leaves: counted by brute force over every slot of the wide tree.
 #[test]
-fn a_walk_counts_every_node_whose_box_the_ray_enters() {
+fn a_walk_counts_every_child_whose_box_the_ray_enters() {
     let bvh = Bvh::build(sphere_items(3000, 5), 3000);
-    let ids: Vec<u32> = (0..2 * bvh.pairs.len() as u32)
-        .filter(|&k| k != 1)
+    let slots: Vec<(&Wide, usize)> = bvh
+        .wide
+        .iter()
+        .flat_map(|n| (0..WIDTH).map(move |k| (n, k)))
+        .filter(|(n, k)| n.child[*k] != NO_CHILD)
         .collect();
     let mut rng = rand_pcg::Pcg64::seed_from_u64(9);
     let mut deep = 0;
@@ -214,14 +218,15 @@ fn a_walk_counts_every_node_whose_box_the_ray_enters() {
         let d = DVec3::new(rng.random(), rng.random(), rng.random()) * 2.0 - 1.0;
         let ray = Ray::new(o, d.normalize());
         let rb = RayBox::new(&ray);
-        let entered: Vec<&Node> = ids
+        let entered: Vec<&(&Wide, usize)> = slots
             .iter()
-            .map(|&k| bvh.node(k))
-            .filter(|n| rb.entry(&n.bounds, f64::INFINITY) != MISS)
+            .filter(|(n, k)| rb.entry(&n.bounds(*k), f64::INFINITY) != MISS)
             .collect();
+        // The root node is visited when the ray enters the whole tree's box.
+        let root = u64::from(rb.entry(&bvh.root, f64::INFINITY) != MISS);
         let want = QueryCost {
-            nodes: entered.len() as u64,
-            tests: entered.iter().map(|n| u64::from(n.count)).sum(),
+            nodes: root + entered.len() as u64,
+            tests: entered.iter().map(|(n, k)| u64::from(n.count[*k])).sum(),
         };
         let mut got = QueryCost::default();
         let mut t = f64::INFINITY;
@@ -229,9 +234,116 @@ fn a_walk_counts_every_node_whose_box_the_ray_enters() {
             (false, prims.len())
         });
         assert_eq!(got, want, "{ray:?}");
-        deep += usize::from(want.nodes > 20 && want.tests > 0);
+        deep += usize::from(want.nodes > 10 && want.tests > 0);
     }
     assert!(deep > 30, "{deep} rays entered many boxes");
+}
+
+/// The wide tree holds the binary tree's leaves, each once, with their
+/// boxes; a node's children lie in its box, and its unused slots come last.
+#[test]
+fn wide_tree_holds_the_binary_leaves() {
+    for n in [1, 2, 3, 7, 3000] {
+        let bin = Binary::build(sphere_items(n, 6));
+        let bvh = Bvh::build(sphere_items(n, 6), n);
+        assert_eq!(bvh.prims, bin.prims);
+        let leaves: Vec<([f32; 6], u32, u32)> = (0..2 * bin.pairs.len() as u32)
+            .filter(|&k| k != 1)
+            .map(|k| bin.node(k))
+            .filter(|node| node.count > 0)
+            .map(|node| (node.bounds, node.start, node.count))
+            .collect();
+        let mut found = Vec::new();
+        let mut todo = vec![(
+            0usize,
+            [
+                f32::NEG_INFINITY,
+                f32::NEG_INFINITY,
+                f32::NEG_INFINITY,
+                f32::INFINITY,
+                f32::INFINITY,
+                f32::INFINITY,
+            ],
+        )];
+        let mut visits = 0;
+        while let Some((w, outer)) = todo.pop() {
+            visits += 1;
+            let node = &bvh.wide[w];
+            let used = (0..WIDTH)
+                .take_while(|&k| node.child[k] != NO_CHILD)
+                .count();
+            assert!(used >= 1 && (used..WIDTH).all(|k| node.child[k] == NO_CHILD));
+            for k in 0..used {
+                let b = node.bounds(k);
+                assert!((0..3).all(|a| b[a] >= outer[a] && b[a + 3] <= outer[a + 3]));
+                if node.count[k] > 0 {
+                    found.push((b, node.child[k], node.count[k]));
+                } else {
+                    todo.push((node.child[k] as usize, b));
+                }
+            }
+        }
+        assert_eq!(visits, bvh.wide.len(), "every node reached once");
+        let key = |l: &([f32; 6], u32, u32)| l.1;
+        found.sort_by_key(key);
+        let mut want = leaves.clone();
+        want.sort_by_key(key);
+        assert_eq!(found, want);
+        // A tree of more than WIDTH leaves fills its root.
+        if leaves.len() >= WIDTH {
+            assert!(bvh.wide[0].child.iter().all(|&c| c != NO_CHILD));
+        }
+    }
+}
+
+/// Each lane of the wide box test is the scalar test of that child's box,
+/// to the bit, and an unused slot is always missed.
+#[test]
+fn wide_box_test_is_the_scalar_one_lane_by_lane() {
+    let mut rng = rand_pcg::Pcg64::seed_from_u64(12);
+    let mut seen = [0; 2];
+    for _ in 0..2000 {
+        let mut node = Wide::EMPTY;
+        let used = rng.random_range(0..=WIDTH);
+        for k in 0..used {
+            let c = DVec3::new(rng.random(), rng.random(), rng.random()) * 10.0 - 5.0;
+            let h = DVec3::new(rng.random(), rng.random(), rng.random()) * 3.0;
+            node.set_bounds(k, &f32_box(c, h));
+            node.child[k] = k as u32;
+        }
+        // Mostly aimed at the middle, where the boxes crowd.
+        let o = DVec3::new(rng.random(), rng.random(), rng.random()) * 16.0 - 8.0;
+        let aim = DVec3::new(rng.random(), rng.random(), rng.random()) * 6.0 - 3.0;
+        let mut d = aim - o;
+        // Some directions along an axis or a plane: zero components.
+        for a in 0..3 {
+            if rng.random_bool(0.2) {
+                d[a] = if rng.random_bool(0.5) { 0.0 } else { -0.0 };
+            }
+        }
+        if d == DVec3::ZERO {
+            continue;
+        }
+        let rb = RayBox::new(&Ray::new(o, d.normalize()));
+        let t_best = if rng.random_bool(0.5) {
+            f64::INFINITY
+        } else {
+            rng.random::<f64>() * 12.0
+        };
+        for (k, t) in rb.entries(&node, t_best).into_iter().enumerate() {
+            let want = if k < used {
+                rb.entry(&node.bounds(k), t_best)
+            } else {
+                MISS
+            };
+            assert_eq!(t.to_bits(), want.to_bits(), "lane {k}");
+            if k < used {
+                seen[usize::from(want != MISS)] += 1;
+            }
+        }
+    }
+    // Both answers well exercised.
+    assert!(seen.iter().all(|&n| n > 200), "{seen:?} lanes missed, hit");
 }
 
 fn sphere_items(n: usize, seed: u64) -> Vec<Item> {
@@ -254,7 +366,7 @@ fn same_tree_on_one_or_two_threads() -> Result<(), rayon::ThreadPoolBuildError> 
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
-            .map(|pool| pool.install(|| Bvh::build(items.clone(), items.len())))
+            .map(|pool| pool.install(|| Binary::build(items.clone())))
     };
     let (a, b) = (on(1)?, on(2)?);
     assert_eq!(items.len(), 50_000);
@@ -292,19 +404,19 @@ fn upward_links_lead_from_every_leaf_to_the_root() {
     let bvh = Bvh::build(items[1..].to_vec(), n);
     assert_eq!(bvh.leaf_of[items[0].index as usize], NO_LEAF);
     for it in &items[1..] {
-        let k = bvh.leaf_of[it.index as usize];
-        let leaf = bvh.node(k);
-        let s = leaf.start as usize;
-        assert!(leaf.count > 0 && bvh.prims[s..s + leaf.count as usize].contains(&it.index));
+        let (w, k) = split_slot(bvh.leaf_of[it.index as usize]);
+        let (s, count) = (bvh.wide[w].child[k] as usize, bvh.wide[w].count[k] as usize);
+        assert!(count > 0 && bvh.prims[s..s + count].contains(&it.index));
         // Up the parents: each holds the node as a child, and the root is reached.
-        let (mut k, mut steps) = (k, 0);
-        while k != 0 {
-            let parent = bvh.node(bvh.parent[k as usize >> 1]);
-            assert!(parent.count == 0 && parent.start == k & !1);
-            k = bvh.parent[k as usize >> 1];
+        let (mut w, mut steps) = (w, 0);
+        while bvh.parent[w] != ROOT {
+            let (p, k) = split_slot(bvh.parent[w]);
+            assert!(bvh.wide[p].count[k] == 0 && bvh.wide[p].child[k] as usize == w);
+            w = p;
             steps += 1;
             assert!(steps < STACK_SIZE);
         }
+        assert_eq!(w, 0);
     }
 }
 
@@ -313,7 +425,7 @@ fn depth_stays_within_the_stack() {
     let items = deep_items();
     assert_eq!(items.len(), 2 * 219, "every box is finite");
     let n = items.len();
-    let bvh = Bvh::build(items, n);
+    let bvh = Binary::build(items);
     let depth = depth_and_coverage(&bvh, n);
     assert!(
         depth > SAH_MAX_DEPTH,
@@ -329,21 +441,17 @@ mod slot_build {
     use super::*;
 
     /// The tree over `items` as the slot build made it.
-    pub(super) fn build(mut items: Vec<Item>) -> Bvh {
+    pub(super) fn build(mut items: Vec<Item>) -> Binary {
         let n = items.len();
         if n == 0 {
-            return Bvh::default();
+            return Binary::default();
         }
         let ext = Extents::of(&items);
         let mut slots = vec![Node::default(); 2 * n - 1];
         let (root, count) = build_node(&mut items, 0, ext, 0, &mut slots[1..], 1);
         let prims = items.iter().map(|it| it.index).collect();
         let pairs = compact(root, &slots, count);
-        Bvh {
-            pairs,
-            prims,
-            ..Bvh::default()
-        }
+        Binary { pairs, prims }
     }
 
     /// Builds the subtree over `items` (the first is primitive `offset` of the
@@ -420,7 +528,7 @@ mod slot_build {
 /// Every field of every node, bounds as bits. (The boxes are now unions
 /// taken in another order: equal values, but a zero bound could change
 /// sign; the inputs here have none.)
-fn node_bits(bvh: &Bvh) -> Vec<[u32; 8]> {
+fn node_bits(bvh: &Binary) -> Vec<[u32; 8]> {
     let bits = |n: &Node| {
         let b = n.bounds.map(f32::to_bits);
         [b[0], b[1], b[2], b[3], b[4], b[5], n.start, n.count]
@@ -464,7 +572,7 @@ fn same_tree_as_the_slot_build() -> Result<(), rayon::ThreadPoolBuildError> {
         for items in &cases {
             let (new, old) = pool.install(|| {
                 (
-                    Bvh::build(items.clone(), items.len()),
+                    Binary::build(items.clone()),
                     slot_build::build(items.clone()),
                 )
             });

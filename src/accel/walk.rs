@@ -1,10 +1,10 @@
-//! Single-ray walks of the tree: ordered, allocation-free, from the root,
-//! up from a primitive's leaf, or within subtrees found once for a hull.
+//! Single-ray walks of the wide tree: ordered, allocation-free, from the
+//! root, up from a primitive's leaf, or within subtrees found once for a hull.
 
-use super::bvh::{Bvh, NO_LEAF};
+use super::bvh::{Bvh, NO_LEAF, ROOT, split_slot};
 use super::hull::Hull;
-use super::node::{Node, Pair};
-use super::ray_box::{FAR_SLACK, MISS, RayBox, max_num};
+use super::node::{NO_CHILD, WIDTH};
+use super::ray_box::{FAR_SLACK, MISS, RayBox};
 use super::tally::QueryTally;
 use crate::geometry::Ray;
 use std::cell::RefCell;
@@ -17,16 +17,16 @@ impl Bvh {
     /// Visits, nearest box first, the leaves whose boxes the ray enters at a
     /// distance in [0, `t_best`] (up to the slack); `leaf` gets the leaf's
     /// primitives and may lower `t_best`, and returns whether to stop the
-    /// walk and how many primitives it tested. Every node visited and every
-    /// test is counted into `tally`.
+    /// walk and how many primitives it tested. Every node and leaf visited
+    /// and every test is counted into `tally`.
     ///
     /// For a ray leaving the surface of primitive `from`, the walk starts at
-    /// its leaf and goes up, visiting at each level the subtree beside the
-    /// path. Those subtrees and the leaf make up the whole tree, so the same
-    /// leaves are visited, but the primitives near the origin come first and
-    /// the descent from the root is skipped: a shadow ray mostly meets its
-    /// blocker a level or two up. Otherwise (`None`, or a primitive not in
-    /// the tree) the walk is the root's subtree alone.
+    /// its leaf and goes up, visiting at each level the node's other
+    /// children. Those subtrees and the leaf make up the whole tree, so the
+    /// same leaves are visited, but the primitives near the origin come
+    /// first and the descent from the root is skipped: a shadow ray mostly
+    /// meets its blocker a level or two up. Otherwise (`None`, or a
+    /// primitive not in the tree) the walk is the root's subtree alone.
     #[inline]
     pub(crate) fn traverse(
         &self,
@@ -36,154 +36,209 @@ impl Bvh {
         tally: &mut impl QueryTally,
         mut leaf: impl FnMut(&[u32], &mut f64) -> (bool, usize),
     ) {
-        let Some(Pair([root, _])) = self.pairs.first() else {
+        if self.wide.is_empty() {
             return;
-        };
+        }
         let rb = RayBox::new(ray);
         // A ray that misses the whole tree needs no stack.
-        if rb.entry(&root.bounds, *t_best) == MISS {
+        if rb.entry(&self.root, *t_best) == MISS {
             return;
         }
         let start = from
             .and_then(|p| self.leaf_of.get(p as usize).copied())
-            .filter(|&k| k != NO_LEAF)
-            .unwrap_or(0);
-        let up = |stack: &mut Stack| {
-            // Subtree roots in order: the start node, then each sibling up the path.
-            let mut k = start;
-            let mut sub = start;
-            loop {
-                let node = self.node(sub);
-                // The root's box was tested above.
-                if (sub == 0 || rb.entry(&node.bounds, *t_best) != MISS)
-                    && self.walk(&rb, node, t_best, stack, tally, &mut leaf)
-                {
-                    return;
-                }
-                if k == 0 {
-                    return;
-                }
-                // Node k is not the root, so it has a sibling (ids 2p, 2p + 1
-                // of pair p ≥ 1) and a parent.
-                sub = k ^ 1;
-                k = self.parent[k as usize >> 1];
-            }
+            .filter(|&k| k != NO_LEAF);
+        let Some(slot) = start else {
+            with_stack(|stack| {
+                self.walk(&rb, 0, WIDTH, t_best, stack, tally, &mut leaf);
+            });
+            return;
         };
-        with_stack(up);
+        // The start leaf's node (the leaf among its children), then each
+        // node up the path without the child just come from.
+        let (mut n, mut k) = (split_slot(slot).0, WIDTH);
+        with_stack(|stack| {
+            loop {
+                if self.walk(&rb, n, k, t_best, stack, tally, &mut leaf) {
+                    return;
+                }
+                match self.parent[n] {
+                    ROOT => return,
+                    up => (n, k) = split_slot(up),
+                }
+            }
+        });
     }
 
-    /// The walk of [`Bvh::traverse`] from `root`, with a stack to use; true
+    /// Walks the subtree of `slot` if the ray enters its box: a leaf at
+    /// once, a node with `walk`. True when `leaf` stopped it.
+    #[inline(always)]
+    fn enter_slot(
+        &self,
+        rb: &RayBox,
+        slot: u32,
+        t_best: &mut f64,
+        tally: &mut impl QueryTally,
+        mut leaf: impl FnMut(&[u32], &mut f64) -> (bool, usize),
+    ) -> bool {
+        let (n, k) = split_slot(slot);
+        let node = &self.wide[n];
+        if rb.entry(&node.bounds(k), *t_best) == MISS {
+            return false;
+        }
+        let (child, count) = (node.child[k], node.count[k]);
+        if count > 0 {
+            tally.node();
+            let s = child as usize;
+            let (stop, tested) = leaf(&self.prims[s..s + count as usize], t_best);
+            tally.tests(tested);
+            stop
+        } else {
+            let mut stop = false;
+            with_stack(|stack| {
+                stop = self.walk(rb, child as usize, WIDTH, t_best, stack, tally, &mut leaf);
+            });
+            stop
+        }
+    }
+
+    /// The walk of [`Bvh::traverse`] from wide node `root`, leaving out its
+    /// child `skip` (none if `skip` ≥ [`WIDTH`]), with a stack to use; true
     /// when `leaf` stopped it.
     #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
     fn walk(
         &self,
         rb: &RayBox,
-        root: &Node,
+        root: usize,
+        skip: usize,
         t_best: &mut f64,
         stack: &mut Stack,
         tally: &mut impl QueryTally,
         mut leaf: impl FnMut(&[u32], &mut f64) -> (bool, usize),
     ) -> bool {
-        let Stack {
-            node: stack_node,
-            t: stack_t,
-        } = stack;
+        let Stack { entry, t: stack_t } = stack;
         let mut sp = 0;
-        let mut node = root;
+        // The current child: a node's index (count 0) or a leaf.
+        let (mut child, mut count) = (root as u32, 0);
+        let mut skip = skip;
         loop {
             tally.node();
-            if node.count > 0 {
-                let s = node.start as usize;
-                let (stop, tested) = leaf(&self.prims[s..s + node.count as usize], t_best);
+            if count > 0 {
+                let s = child as usize;
+                let (stop, tested) = leaf(&self.prims[s..s + count as usize], t_best);
                 tally.tests(tested);
                 if stop {
                     return true;
                 }
             } else {
-                let pair = &self.pairs[node.start as usize >> 1].0;
-                let ta = rb.entry(&pair[0].bounds, *t_best);
-                let tb = rb.entry(&pair[1].bounds, *t_best);
-                let (hit_a, hit_b) = (ta != MISS, tb != MISS);
-                if hit_a || hit_b {
-                    // Go to the nearer child, push the other if hit. The order
-                    // is a coin toss for the branch predictor, so it is chosen
-                    // by arithmetic; a missed child has entry MISS = ∞, so it
-                    // is never the nearer one.
-                    let a_first = ta <= tb;
-                    // The mask only spares a bounds check: sp <= depth <=
-                    // SAH_MAX_DEPTH + 32 < STACK_SIZE (one push per level).
-                    stack_node[sp & (STACK_SIZE - 1)] = node.start + a_first as u32;
-                    stack_t[sp & (STACK_SIZE - 1)] = max_num(ta, tb);
-                    sp += (hit_a && hit_b) as usize;
-                    node = &pair[!a_first as usize];
+                let node = &self.wide[child as usize];
+                let mut t = rb.entries(node, *t_best);
+                if skip < WIDTH {
+                    t[skip] = MISS;
+                    skip = WIDTH;
+                }
+                let mut hit = 0u32;
+                for (k, &t) in t.iter().enumerate() {
+                    hit |= u32::from(t != MISS) << k;
+                }
+                if hit != 0 {
+                    // The children entered, nearest first: push the others
+                    // farthest first, go to the nearest. The mask only
+                    // spares a bounds check: WIDTH − 1 pushes a level, and
+                    // the depth is below STACK_SIZE.
+                    let mut order = [0; WIDTH];
+                    let mut n = 0;
+                    while hit != 0 {
+                        let k = hit.trailing_zeros() as usize;
+                        hit &= hit - 1;
+                        let mut j = n;
+                        while j > 0 && t[order[j - 1]] > t[k] {
+                            order[j] = order[j - 1];
+                            j -= 1;
+                        }
+                        order[j] = k;
+                        n += 1;
+                    }
+                    for &k in order[1..n].iter().rev() {
+                        entry[sp & (WIDE_STACK - 1)] = (node.child[k], node.count[k]);
+                        stack_t[sp & (WIDE_STACK - 1)] = t[k];
+                        sp += 1;
+                    }
+                    (child, count) = (node.child[order[0]], node.count[order[0]]);
                     continue;
                 }
             }
-            // Pop the nearest pending node that may still hold a nearer hit.
+            // Pop the nearest pending child that may still hold a nearer hit.
             loop {
                 if sp == 0 {
                     return false;
                 }
                 sp -= 1;
-                if stack_t[sp & (STACK_SIZE - 1)] <= *t_best * FAR_SLACK {
-                    node = self.node(stack_node[sp & (STACK_SIZE - 1)]);
+                if stack_t[sp & (WIDE_STACK - 1)] <= *t_best * FAR_SLACK {
+                    (child, count) = entry[sp & (WIDE_STACK - 1)];
                     break;
                 }
             }
         }
     }
 
-    /// Up to `out.len()` subtrees (node ids) that together hold every leaf
-    /// whose box meets `hull`, each meeting it, leaves whose primitives
-    /// `skip` accepts left out: the tree is searched breadth first, a node
-    /// giving way to those of its children that meet the hull while they
-    /// fit. Returns their number.
+    /// Up to `out.len()` subtrees (slots, or [`ROOT`] for the whole tree)
+    /// that together hold every leaf whose box meets `hull`, each meeting
+    /// it, leaves whose primitives `skip` accepts left out: the tree is
+    /// searched breadth first, a subtree giving way to those of its
+    /// children that meet the hull while they fit. Returns their number.
     pub(crate) fn reach(
         &self,
         hull: &Hull,
         out: &mut [u32],
         skip: impl Fn(&[u32]) -> bool,
     ) -> usize {
-        let Some(Pair([root, _])) = self.pairs.first() else {
-            return 0;
-        };
         let room = out.len().min(STACK_SIZE);
-        if room == 0 || !hull.meets(&root.bounds) {
+        if self.wide.is_empty() || room == 0 {
             return 0;
         }
-        // Pending nodes, first in first out; the pending and the found
+        // Pending subtrees, first in first out; the pending and the found
         // together never exceed the room.
         let mut queue = [0u32; STACK_SIZE];
+        queue[0] = ROOT;
         let (mut head, mut tail, mut len) = (0, 1, 0);
         while head < tail {
-            let id = queue[head & (STACK_SIZE - 1)];
+            let slot = queue[head & (STACK_SIZE - 1)];
             head += 1;
-            let node = self.node(id);
-            let s = node.start as usize;
-            if node.count > 0 {
-                if !skip(&self.prims[s..s + node.count as usize]) {
-                    out[len] = id;
-                    len += 1;
+            let n = if slot == ROOT {
+                0
+            } else {
+                let (n, k) = split_slot(slot);
+                let (child, count) = (self.wide[n].child[k], self.wide[n].count[k]);
+                if count > 0 {
+                    let s = child as usize;
+                    if !skip(&self.prims[s..s + count as usize]) {
+                        out[len] = slot;
+                        len += 1;
+                    }
+                    continue;
                 }
-                continue;
-            }
-            let pair = &self.pairs[s >> 1].0;
-            let meets = [hull.meets(&pair[0].bounds), hull.meets(&pair[1].bounds)];
+                child as usize
+            };
+            let node = &self.wide[n];
+            let meets: [bool; WIDTH] =
+                std::array::from_fn(|k| node.child[k] != NO_CHILD && hull.meets(&node.bounds(k)));
             let kids = meets.iter().filter(|&&m| m).count();
             if len + (tail - head) + kids <= room {
                 for (k, _) in meets.iter().enumerate().filter(|(_, m)| **m) {
-                    queue[tail & (STACK_SIZE - 1)] = node.start + k as u32;
+                    queue[tail & (STACK_SIZE - 1)] = (n * WIDTH + k) as u32;
                     tail += 1;
                 }
             } else {
-                out[len] = id;
+                out[len] = slot;
                 len += 1;
             }
         }
         len
     }
 
-    /// [`Bvh::traverse`] over the subtrees `roots` alone, in that order.
+    /// [`Bvh::traverse`] over the subtrees `roots` (as [`Bvh::reach`] gives
+    /// them) alone, in that order.
     #[inline]
     pub(crate) fn traverse_within(
         &self,
@@ -194,22 +249,15 @@ impl Bvh {
         mut leaf: impl FnMut(&[u32], &mut f64) -> (bool, usize),
     ) {
         let rb = RayBox::new(ray);
-        for &id in roots {
-            let node = self.node(id);
-            if rb.entry(&node.bounds, *t_best) == MISS {
-                continue;
-            }
-            // A leaf needs no stack.
-            let s = node.start as usize;
-            let stop = if node.count > 0 {
-                tally.node();
-                let (stop, tested) = leaf(&self.prims[s..s + node.count as usize], t_best);
-                tally.tests(tested);
+        for &slot in roots {
+            let stop = if slot == ROOT {
+                let mut stop = false;
+                with_stack(|stack| {
+                    stop = self.walk(&rb, 0, WIDTH, t_best, stack, tally, &mut leaf);
+                });
                 stop
             } else {
-                let mut stop = false;
-                with_stack(|stack| stop = self.walk(&rb, node, t_best, stack, tally, &mut leaf));
-                stop
+                self.enter_slot(&rb, slot, t_best, tally, &mut leaf)
             };
             if stop {
                 return;
@@ -218,17 +266,21 @@ impl Bvh {
     }
 }
 
-/// A traversal stack: pending node ids and their entry distances.
+/// Entries of a single ray's traversal stack: up to WIDTH − 1 pushes a
+/// level of a tree shallower than [`STACK_SIZE`]; a power of two.
+const WIDE_STACK: usize = WIDTH * STACK_SIZE;
+
+/// A traversal stack: pending children (as in [`Wide`](super::node::Wide)) and their entry distances.
 #[derive(Debug)]
 struct Stack {
-    node: [u32; STACK_SIZE],
-    t: [f64; STACK_SIZE],
+    entry: [(u32, u32); WIDE_STACK],
+    t: [f64; WIDE_STACK],
 }
 
 impl Stack {
     const EMPTY: Stack = Stack {
-        node: [0; STACK_SIZE],
-        t: [0.0; STACK_SIZE],
+        entry: [(0, 0); WIDE_STACK],
+        t: [0.0; WIDE_STACK],
     };
 }
 
@@ -238,7 +290,7 @@ thread_local! {
 }
 
 /// Runs `f` with this thread's traversal stack. The stack lives in the
-/// thread, not in the caller's frame: a fresh one would be zeroed (1.5 KiB)
+/// thread, not in the caller's frame: a fresh one would be zeroed (6 KiB)
 /// on every query, a large part of a shadow ray's cost.
 #[inline(always)]
 fn with_stack(f: impl FnOnce(&mut Stack)) {
