@@ -396,6 +396,28 @@ fn deep_items() -> Vec<Item> {
         .unwrap_or_default()
 }
 
+/// The wide tree, written in parallel at its top, is the same on one
+/// thread or two, in arrays of exactly its size.
+#[test]
+fn same_wide_tree_on_one_or_two_threads() -> Result<(), rayon::ThreadPoolBuildError> {
+    let items = sphere_items(50_000, 11);
+    let n = items.len();
+    let on = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .map(|pool| pool.install(|| Bvh::build(items.clone(), n)))
+    };
+    let (a, b) = (on(1)?, on(2)?);
+    assert!(a.wide.len() > 1000);
+    assert_eq!(a.wide, b.wide);
+    assert_eq!(a.parent, b.parent);
+    assert_eq!(a.leaf_of, b.leaf_of);
+    assert_eq!(a.wide.capacity(), a.wide.len());
+    assert_eq!(a.parent.len(), a.wide.len());
+    Ok(())
+}
+
 #[test]
 fn upward_links_lead_from_every_leaf_to_the_root() {
     let items = sphere_items(5000, 4);
