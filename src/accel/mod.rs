@@ -1,7 +1,8 @@
 //! Ray queries over all of a scene's objects: nearest hit and any hit.
 //!
-//! Bounded objects sit in a bounding volume hierarchy (binned SAH, 32-byte
-//! nodes with f32 boxes rounded outward so no hit is lost); unbounded ones
+//! Bounded objects sit in a bounding volume hierarchy (binned SAH, collapsed
+//! to four children a node, f32 boxes rounded outward so no hit is lost,
+//! a node's four tested together); unbounded ones
 //! (planes), and any whose bounds are not finite or beyond 1e30, are tested
 //! one by one. Queries come one ray at a time, as packets of coherent rays
 //! (a tile's camera rays), or, for a ray leaving a surface, as a walk up
