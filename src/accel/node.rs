@@ -17,7 +17,7 @@ pub(crate) struct Node {
     /// Lowest corner (x, y, z) then highest corner, rounded outward to f32.
     pub bounds: [f32; 6],
     /// Interior node: id of the first child (even; the second follows it).
-    /// Leaf: index of its first entry in [`Bvh::prims`].
+    /// Leaf: index of its first entry in [`Bvh::prims`](super::bvh::Bvh::prims).
     pub start: u32,
     /// Number of primitives of a leaf; 0 for an interior node.
     pub count: u32,
@@ -144,7 +144,7 @@ pub(crate) const NO_CHILD: u32 = u32::MAX;
 
 /// A node of the wide tree single rays walk: its children's boxes axis by
 /// axis (lane k is child k), so one pass tests them all. A child is a leaf
-/// (`count` > 0 primitives from `child` in [`Bvh::prims`]), another node
+/// (`count` > 0 primitives from `child` in [`Bvh::prims`](super::bvh::Bvh::prims)), another node
 /// (`count` 0, `child` its index), or unused ([`NO_CHILD`], an empty box).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(C, align(64))]
