@@ -204,39 +204,55 @@ fn depth_and_coverage(bvh: &Binary, n: usize) -> usize {
 /// leaves: counted by brute force over every slot of the wide tree.
 #[test]
 fn a_walk_counts_every_child_whose_box_the_ray_enters() {
-    let bvh = Bvh::build(sphere_items(3000, 5), 3000);
-    let slots: Vec<(&Wide, usize)> = bvh
-        .wide
-        .iter()
-        .flat_map(|n| (0..WIDTH).map(move |k| (n, k)))
-        .filter(|(n, k)| n.child[*k] != NO_CHILD)
-        .collect();
-    let mut rng = rand_pcg::Pcg64::seed_from_u64(9);
-    let mut deep = 0;
-    for _ in 0..400 {
-        let o = DVec3::new(rng.random(), rng.random(), rng.random()) * 140.0 - 20.0;
-        let d = DVec3::new(rng.random(), rng.random(), rng.random()) * 2.0 - 1.0;
-        let ray = Ray::new(o, d.normalize());
-        let rb = RayBox::new(&ray);
-        let entered: Vec<&(&Wide, usize)> = slots
+    // Many levels, and one node (its children all leaves: walked apart).
+    for (n, levels) in [(3000, true), (3, false)] {
+        let items = sphere_items(n, 5);
+        let bvh = Bvh::build(items.clone(), n);
+        assert_eq!(bvh.wide.len() == 1, !levels);
+        let slots: Vec<(&Wide, usize)> = bvh
+            .wide
             .iter()
-            .filter(|(n, k)| rb.entry(&n.bounds(*k), f64::INFINITY) != MISS)
+            .flat_map(|n| (0..WIDTH).map(move |k| (n, k)))
+            .filter(|(n, k)| n.child[*k] != NO_CHILD)
             .collect();
-        // The root node is visited when the ray enters the whole tree's box.
-        let root = u64::from(rb.entry(&bvh.root, f64::INFINITY) != MISS);
-        let want = QueryCost {
-            nodes: root + entered.len() as u64,
-            tests: entered.iter().map(|(n, k)| u64::from(n.count[*k])).sum(),
-        };
-        let mut got = QueryCost::default();
-        let mut t = f64::INFINITY;
-        bvh.traverse(None, &ray, &mut t, &mut got, |prims, _| {
-            (false, prims.len())
-        });
-        assert_eq!(got, want, "{ray:?}");
-        deep += usize::from(want.nodes > 10 && want.tests > 0);
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(9);
+        let (mut deep, mut leaves) = (0, 0);
+        for _ in 0..400 {
+            let o = DVec3::new(rng.random(), rng.random(), rng.random()) * 140.0 - 20.0;
+            let mut d = DVec3::new(rng.random(), rng.random(), rng.random()) * 2.0 - 1.0;
+            if !levels {
+                // Few boxes: aimed near one of them.
+                let it = &items[rng.random_range(0..n)];
+                let c = DVec3::from_array([0, 1, 2].map(|a| f64::from(it.centroid(a))));
+                d = c + d * 2.0 - o;
+            }
+            let ray = Ray::new(o, d.normalize());
+            let rb = RayBox::new(&ray);
+            let entered: Vec<&(&Wide, usize)> = slots
+                .iter()
+                .filter(|(n, k)| rb.entry(&n.bounds(*k), f64::INFINITY) != MISS)
+                .collect();
+            // The root node is visited when the ray enters the whole tree's box.
+            let root = u64::from(rb.entry(&bvh.root, f64::INFINITY) != MISS);
+            let want = QueryCost {
+                nodes: root + entered.len() as u64,
+                tests: entered.iter().map(|(n, k)| u64::from(n.count[*k])).sum(),
+            };
+            let mut got = QueryCost::default();
+            let mut t = f64::INFINITY;
+            bvh.traverse(None, &ray, &mut t, &mut got, |prims, _| {
+                (false, prims.len())
+            });
+            assert_eq!(got, want, "{ray:?}");
+            deep += usize::from(want.nodes > 10 && want.tests > 0);
+            leaves += usize::from(want.tests > 0);
+        }
+        if levels {
+            assert!(deep > 30, "{deep} rays entered many boxes");
+        } else {
+            assert!(leaves > 10, "{leaves} rays entered a leaf");
+        }
     }
-    assert!(deep > 30, "{deep} rays entered many boxes");
 }
 
 /// The wide tree holds the binary tree's leaves, each once, with their

@@ -44,6 +44,19 @@ impl Bvh {
         if rb.entry(&self.root, *t_best) == MISS {
             return;
         }
+        if let [node] = &self.wide[..] {
+            // One node, its children leaves (a scene of a few objects):
+            // each entered in turn, none ordered, no stack.
+            tally.node();
+            let t = rb.entries(node, *t_best);
+            for k in (0..WIDTH).filter(|&k| node.count[k] > 0) {
+                let entered = t[k] != MISS && t[k] <= *t_best * FAR_SLACK;
+                if entered && self.visit(node.child[k], node.count[k], t_best, tally, &mut leaf) {
+                    return;
+                }
+            }
+            return;
+        }
         let start = from
             .and_then(|p| self.leaf_of.get(p as usize).copied())
             .filter(|&k| k != NO_LEAF);
@@ -69,6 +82,24 @@ impl Bvh {
         });
     }
 
+    /// Visits the leaf of `count` primitives from `start`: `leaf` tests
+    /// them, counted into `tally`. True when it stops the walk.
+    #[inline(always)]
+    fn visit(
+        &self,
+        start: u32,
+        count: u32,
+        t_best: &mut f64,
+        tally: &mut impl QueryTally,
+        mut leaf: impl FnMut(&[u32], &mut f64) -> (bool, usize),
+    ) -> bool {
+        tally.node();
+        let s = start as usize;
+        let (stop, tested) = leaf(&self.prims[s..s + count as usize], t_best);
+        tally.tests(tested);
+        stop
+    }
+
     /// Walks the subtree of `slot` if the ray enters its box: a leaf at
     /// once, a node with `walk`. True when `leaf` stopped it.
     #[inline(always)]
@@ -87,11 +118,7 @@ impl Bvh {
         }
         let (child, count) = (node.child[k], node.count[k]);
         if count > 0 {
-            tally.node();
-            let s = child as usize;
-            let (stop, tested) = leaf(&self.prims[s..s + count as usize], t_best);
-            tally.tests(tested);
-            stop
+            self.visit(child, count, t_best, tally, &mut leaf)
         } else {
             let mut stop = false;
             with_stack(|stack| {
@@ -122,15 +149,12 @@ impl Bvh {
         let (mut child, mut count) = (root as u32, 0);
         let mut skip = skip;
         loop {
-            tally.node();
             if count > 0 {
-                let s = child as usize;
-                let (stop, tested) = leaf(&self.prims[s..s + count as usize], t_best);
-                tally.tests(tested);
-                if stop {
+                if self.visit(child, count, t_best, tally, &mut leaf) {
                     return true;
                 }
             } else {
+                tally.node();
                 let node = &self.wide[child as usize];
                 let mut t = rb.entries(node, *t_best);
                 if skip < WIDTH {
