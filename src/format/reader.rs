@@ -1086,8 +1086,7 @@ mod tests {
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
-            // invariant: the test machine starts two threads (every render test needs them).
-            .expect("a thread pool")
+            .expect("a thread pool") // invariant: the test machine starts two threads (every render test needs them)
     }
 
     /// Parses `bytes` as a whole text on two threads, then in chunks of

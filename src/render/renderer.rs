@@ -162,8 +162,7 @@ impl Renderer {
             .collect();
         order.sort_by_key(|b| (b.y + b.height / 2).abs_diff(near));
         let (films, stats) = self.render_runs(&whole, &order, control, Some(band))?;
-        // invariant: the bands cover the region once, by construction (Tile::band of every band).
-        let film = Film::assemble((w, h), region, films).expect("a region's bands cover it once");
+        let film = Film::assemble((w, h), region, films).expect("a region's bands cover it once"); // invariant: the bands cover the region once, by construction (Tile::band of every band)
         Ok((film, stats))
     }
 

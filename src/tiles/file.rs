@@ -348,8 +348,7 @@ mod tests {
 
     fn tile() -> TileFile {
         let text = include_str!("../../tests/data/events.txt");
-        // invariant: the project's own test scene parses (tests/render.rs renders it too).
-        let renderer = Renderer::new(Scene::parse(text, ".").expect("the test's scene parses"));
+        let renderer = Renderer::new(Scene::parse(text, ".").expect("the test's scene parses")); // invariant: the project's own test scene parses (tests/render.rs renders it too)
         let options = RenderOptions {
             width: Some(12),
             height: Some(70),
@@ -360,8 +359,7 @@ mod tests {
         };
         let command = vec!["glint".to_string(), "render".to_string()];
         TileFile::render(&renderer, &options, Control::default(), command)
-            // invariant: a 12×70 part of that scene, never cancelled, renders.
-            .expect("renders")
+            .expect("renders") // invariant: a 12×70 part of that scene, never cancelled, renders
             .0
     }
 
@@ -385,10 +383,8 @@ mod tests {
         }
         // A header that lies, with a checksum that matches: refused, no
         // allocation of what it claims.
-        // invariant: a slice of 8 bytes makes a [u8; 8].
-        let len = u64::from_le_bytes(bytes[12..20].try_into().expect("8 bytes")) as usize;
-        // invariant: `encode` writes the header as JSON text, checked by the decode above.
-        let header = std::str::from_utf8(&bytes[20..20 + len]).expect("a JSON header");
+        let len = u64::from_le_bytes(bytes[12..20].try_into().expect("8 bytes")) as usize; // invariant: a slice of 8 bytes makes a [u8; 8]
+        let header = std::str::from_utf8(&bytes[20..20 + len]).expect("a JSON header"); // invariant: `encode` writes the header as JSON text, checked by the decode above
         assert!(header.contains("[0,32,12,32]"), "{header}");
         let lie = header.replace("[0,32,12,32]", "[0,32,12,4000000000]");
         let mut forged = bytes[..12].to_vec();
