@@ -34,9 +34,7 @@ impl Bvh {
         if root.count > 0 {
             // The whole tree is one leaf: the root's only child.
             let mut node = Wide::EMPTY;
-            node.set_bounds(0, &root.bounds);
-            node.child[0] = root.start;
-            node.count[0] = root.count;
+            node.set_child(0, &root.bounds, root.start, root.count);
             wide.push(node);
             parent.push(ROOT);
         } else {
@@ -162,13 +160,11 @@ fn write(
     let mut inner = 0;
     for (k, &id) in kids[..n].iter().enumerate() {
         let child = bin.node(id);
-        node.set_bounds(k, &child.bounds);
         if child.count > 0 {
-            node.child[k] = child.start;
-            node.count[k] = child.count;
+            node.set_child(k, &child.bounds, child.start, child.count);
             continue;
         }
-        node.child[k] = next as u32;
+        node.set_child(k, &child.bounds, next as u32, 0);
         let slot = (base * WIDTH + k) as u32;
         if let Some(sizes) = sizes {
             let size = &sizes.kids[inner];

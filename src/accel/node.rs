@@ -175,11 +175,13 @@ impl Wide {
         [lo[0][k], lo[1][k], lo[2][k], hi[0][k], hi[1][k], hi[2][k]]
     }
 
-    /// Sets child `k`'s box.
-    pub(crate) fn set_bounds(&mut self, k: usize, b: &[f32; 6]) {
+    /// Sets child `k`: its box, and its node index (`count` 0) or leaf.
+    pub(crate) fn set_child(&mut self, k: usize, b: &[f32; 6], child: u32, count: u32) {
         for a in 0..3 {
             self.lo[a][k] = b[a];
             self.hi[a][k] = b[a + 3];
         }
+        self.child[k] = child;
+        self.count[k] = count;
     }
 }

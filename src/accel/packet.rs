@@ -7,7 +7,7 @@
 use super::bvh::split_slot;
 use super::node::{NO_CHILD, WIDTH};
 use super::ray_box::{FAR_SLACK, MISS, RayBox, max_num, min_num};
-use super::walk::STACK_SIZE;
+use super::walk::{STACK_SIZE, in_order};
 use super::{Accel, PACKET_MAX, Primitive};
 use crate::geometry::{Hit, Ray};
 use glam::DVec3;
@@ -103,18 +103,13 @@ impl<P: Primitive> Accel<P> {
                 // first, go to the nearest.
                 let w = child as usize;
                 let node = &bvh.wide[w];
-                let used = node.child.iter().take_while(|&&c| c != NO_CHILD).count();
+                let mut used = 0u32;
                 let mut key = [0.0; WIDTH];
-                let mut order = [0; WIDTH];
-                for k in 0..used {
+                for k in (0..WIDTH).filter(|&k| node.child[k] != NO_CHILD) {
+                    used |= 1 << k;
                     key[k] = along(&node.bounds(k));
-                    let mut j = k;
-                    while j > 0 && key[order[j - 1]] > key[k] {
-                        order[j] = order[j - 1];
-                        j -= 1;
-                    }
-                    order[j] = k;
                 }
+                let (order, used) = in_order(&key, used);
                 for &k in order[1..used].iter().rev() {
                     stack[sp & mask] = ((w * WIDTH + k) as u32, i as u32);
                     sp += 1;

@@ -57,24 +57,15 @@ impl RayBox {
     /// (closed) slab holds the whole ray then.
     #[inline(always)]
     pub(crate) fn entry(&self, b: &[f32; 6], t_best: f64) -> f64 {
-        // Masks keep the indices provably in 0..6 (no bounds checks).
-        let [nx, ny, nz] = self.near.map(|n| n & 3);
-        let [fx, fy, fz] = self.near.map(|n| (n ^ 3) & 3);
-        let [ox, oy, oz] = self.origin;
-        let [ix, iy, iz] = self.inv_dir;
-        let tx0 = (b[nx] as f64 - ox) * ix;
-        let ty0 = (b[ny + 1] as f64 - oy) * iy;
-        let tz0 = (b[nz + 2] as f64 - oz) * iz;
-        let tx1 = (b[fx] as f64 - ox) * ix;
-        let ty1 = (b[fy + 1] as f64 - oy) * iy;
-        let tz1 = (b[fz + 2] as f64 - oz) * iz;
-        let t0 = max_num(tz0, max_num(ty0, max_num(tx0, 0.0)));
-        let t1 = min_num(tz1, min_num(ty1, min_num(tx1, t_best)));
-        if t0 <= t1 * FAR_SLACK { t0 } else { MISS }
+        let (mut t0, mut t1) = (0.0, t_best);
+        for a in 0..3 {
+            // The mask keeps the indices provably in 0..6 (no bounds checks).
+            let near = self.near[a] & 3;
+            self.slab(a, b[near + a], b[(near ^ 3) + a], &mut t0, &mut t1);
+        }
+        clip(t0, t1)
     }
-}
 
-impl RayBox {
     /// [`RayBox::entry`] of each child box of `node` at once: lane k is
     /// exactly what `entry` gives for child k's box (the same operations in
     /// the same order), [`MISS`] for an unused slot.
@@ -88,22 +79,29 @@ impl RayBox {
             } else {
                 (&node.hi[a], &node.lo[a])
             };
-            let (o, inv) = (self.origin[a], self.inv_dir[a]);
             for k in 0..WIDTH {
-                t0[k] = max_num((near[k] as f64 - o) * inv, t0[k]);
-                t1[k] = min_num((far[k] as f64 - o) * inv, t1[k]);
+                self.slab(a, near[k], far[k], &mut t0[k], &mut t1[k]);
             }
         }
-        let mut t = [MISS; WIDTH];
-        for k in 0..WIDTH {
-            t[k] = if t0[k] <= t1[k] * FAR_SLACK {
-                t0[k]
-            } else {
-                MISS
-            };
-        }
-        t
+        std::array::from_fn(|k| clip(t0[k], t1[k]))
     }
+
+    /// One axis of the slab test: the distances at which the ray crosses
+    /// axis `a`'s planes `near` and `far`, folded into the entry `t0` and
+    /// the exit `t1` found so far.
+    #[inline(always)]
+    fn slab(&self, a: usize, near: f32, far: f32, t0: &mut f64, t1: &mut f64) {
+        let (o, inv) = (self.origin[a], self.inv_dir[a]);
+        *t0 = max_num((near as f64 - o) * inv, *t0);
+        *t1 = min_num((far as f64 - o) * inv, *t1);
+    }
+}
+
+/// The entry distance `t0`, or [`MISS`] when the exit `t1` (with slack)
+/// lies before it.
+#[inline(always)]
+fn clip(t0: f64, t1: f64) -> f64 {
+    if t0 <= t1 * FAR_SLACK { t0 } else { MISS }
 }
 
 /// The larger of `t` and `acc`, or `acc` when `t` is NaN (one `maxsd`).

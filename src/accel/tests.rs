@@ -324,8 +324,7 @@ fn wide_box_test_is_the_scalar_one_lane_by_lane() {
         for k in 0..used {
             let c = DVec3::new(rng.random(), rng.random(), rng.random()) * 10.0 - 5.0;
             let h = DVec3::new(rng.random(), rng.random(), rng.random()) * 3.0;
-            node.set_bounds(k, &f32_box(c, h));
-            node.child[k] = k as u32;
+            node.set_child(k, &f32_box(c, h), k as u32, 0);
         }
         // Mostly aimed at the middle, where the boxes crowd.
         let o = DVec3::new(rng.random(), rng.random(), rng.random()) * 16.0 - 8.0;

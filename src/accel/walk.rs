@@ -60,15 +60,10 @@ impl Bvh {
         let start = from
             .and_then(|p| self.leaf_of.get(p as usize).copied())
             .filter(|&k| k != NO_LEAF);
-        let Some(slot) = start else {
-            with_stack(|stack| {
-                self.walk(&rb, 0, WIDTH, t_best, stack, tally, &mut leaf);
-            });
-            return;
-        };
-        // The start leaf's node (the leaf among its children), then each
-        // node up the path without the child just come from.
-        let (mut n, mut k) = (split_slot(slot).0, WIDTH);
+        // The start leaf's node (the leaf among its children; the root
+        // without one), then each node up the path without the child just
+        // come from.
+        let (mut n, mut k) = (start.map_or(0, |slot| split_slot(slot).0), WIDTH);
         with_stack(|stack| {
             loop {
                 if self.walk(&rb, n, k, t_best, stack, tally, &mut leaf) {
@@ -170,19 +165,7 @@ impl Bvh {
                     // farthest first, go to the nearest. The mask only
                     // spares a bounds check: WIDTH − 1 pushes a level, and
                     // the depth is below STACK_SIZE.
-                    let mut order = [0; WIDTH];
-                    let mut n = 0;
-                    while hit != 0 {
-                        let k = hit.trailing_zeros() as usize;
-                        hit &= hit - 1;
-                        let mut j = n;
-                        while j > 0 && t[order[j - 1]] > t[k] {
-                            order[j] = order[j - 1];
-                            j -= 1;
-                        }
-                        order[j] = k;
-                        n += 1;
-                    }
+                    let (order, n) = in_order(&t, hit);
                     for &k in order[1..n].iter().rev() {
                         entry[sp & (WIDE_STACK - 1)] = (node.child[k], node.count[k]);
                         stack_t[sp & (WIDE_STACK - 1)] = t[k];
@@ -290,6 +273,26 @@ impl Bvh {
     }
 }
 
+/// The lanes set in `mask` (bit k for lane k) in increasing order of
+/// `key`, the lower lane first of equal keys, and their number.
+#[inline(always)]
+pub(super) fn in_order(key: &[f64; WIDTH], mut mask: u32) -> ([usize; WIDTH], usize) {
+    let mut order = [0; WIDTH];
+    let mut n = 0;
+    while mask != 0 {
+        let k = mask.trailing_zeros() as usize;
+        mask &= mask - 1;
+        let mut j = n;
+        while j > 0 && key[order[j - 1]] > key[k] {
+            order[j] = order[j - 1];
+            j -= 1;
+        }
+        order[j] = k;
+        n += 1;
+    }
+    (order, n)
+}
+
 /// Entries of a single ray's traversal stack: up to WIDTH − 1 pushes a
 /// level of a tree shallower than [`STACK_SIZE`]; a power of two.
 const WIDE_STACK: usize = WIDTH * STACK_SIZE;
@@ -314,7 +317,7 @@ thread_local! {
 }
 
 /// Runs `f` with this thread's traversal stack. The stack lives in the
-/// thread, not in the caller's frame: a fresh one would be zeroed (6 KiB)
+/// thread, not in the caller's frame: a fresh one would be zeroed (8 KiB)
 /// on every query, a large part of a shadow ray's cost.
 #[inline(always)]
 fn with_stack(f: impl FnOnce(&mut Stack)) {
