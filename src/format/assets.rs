@@ -296,19 +296,18 @@ pub(crate) fn decode_texture_bytes(bytes: &[u8]) -> Result<Texture, String> {
 
 /// A decoded image as a texture, rows from the bottom as the framework has them.
 fn texture_from(img: image::DynamicImage) -> Result<Texture, String> {
-    let img = img.to_rgb8();
+    let img = img.into_rgb8();
     let (w, h) = (img.width() as usize, img.height() as usize);
     if w == 0 || h == 0 {
         return Err("the image is empty".to_string());
     }
-    let mut texels = Vec::with_capacity(w * h);
     // image stores rows top-down; the framework's row 0 is the bottom.
-    for y in (0..h).rev() {
-        for x in 0..w {
-            let p = img.get_pixel(x as u32, y as u32).0;
-            texels.push(p.map(|b| b as f32 / 255.0));
-        }
-    }
+    let texels = img
+        .rows()
+        .rev()
+        .flatten()
+        .map(|p| p.0.map(|b| b as f32 / 255.0))
+        .collect();
     Ok(Texture::from_rows(w, h, texels))
 }
 
