@@ -295,8 +295,9 @@ pub(super) fn split(
         let shift = cent[axis] * (2.0 * scale);
         let bin_of = |it: &Item| -> usize {
             let k = (it.bounds[axis] + it.bounds[axis + 3]) * scale - shift;
-            // Saturating cast: negatives go to 0; the clamp catches the top edge.
-            (k as usize).min(bins_used - 1)
+            // Saturating cast (to i32: fewer instructions than to usize):
+            // negatives and NaN go to 0; the clamp catches the top edge.
+            (k as i32).clamp(0, bins_used as i32 - 1) as usize
         };
         let mut bins = [Bin {
             bounds: EMPTY,
