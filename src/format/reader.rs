@@ -68,23 +68,24 @@ fn parse_chunked(
     let chunk = chunk.max(1);
     let mut guard = LineGuard::new(limits);
     let mut reader = Parse::new(Some(path), base, dialect, true);
-    // Bytes read but not yet parsed: after the last `\n` read so far.
-    let mut raw: Vec<u8> = Vec::new();
-    // The text to parse next: the carried part of the last piece, then new lines.
-    let mut text = String::new();
+    // The text not yet parsed, read into one buffer (no copy): the block
+    // still open, then the bytes read since. It is valid UTF-8 up to
+    // `valid`, which ends a line.
+    let mut buf: Vec<u8> = Vec::new();
+    let mut valid = 0;
     let mut start_of_file = true;
     loop {
         // A block still open is parsed again from its header after each
         // read; reading an eighth of it at least keeps a huge one linear.
-        let want = chunk.max(text.len() / 8);
-        let old = raw.len();
-        raw.reserve(want);
+        let want = chunk.max(valid / 8);
+        let old = buf.len();
+        buf.reserve(want);
         let got = (&mut input)
             .take(want as u64)
-            .read_to_end(&mut raw)
+            .read_to_end(&mut buf)
             .map_err(|e| read_error(path, &ReadError::Io(e), 0))?;
         guard
-            .check(raw.get(old..).unwrap_or_default())
+            .check(buf.get(old..).unwrap_or_default())
             .map_err(|e| {
                 let line = match e {
                     ReadError::LineTooLong { line, .. } => line,
@@ -95,10 +96,10 @@ fn parse_chunked(
         let last = got == 0;
         // Cut after a `\n`: no `\r\n`, no UTF-8 character is split, and
         // `from_utf8_lossy` of each piece is that of the whole file.
-        let cut = if last {
-            raw.len()
+        let mut cut = if last {
+            buf.len()
         } else {
-            match raw
+            match buf
                 .get(old..)
                 .and_then(|new| new.iter().rposition(|&b| b == b'\n'))
             {
@@ -106,25 +107,35 @@ fn parse_chunked(
                 None => continue,
             }
         };
-        let piece = raw.get(..cut).unwrap_or_default();
-        // Old files carry Latin-1 comments; those bytes only ever matter in
-        // comments. (`from_utf8` first: its check of valid text is faster.)
-        let piece = match std::str::from_utf8(piece) {
-            Ok(valid) => std::borrow::Cow::Borrowed(valid),
-            Err(_) => String::from_utf8_lossy(piece),
+        let carry = loop {
+            match std::str::from_utf8(buf.get(..cut).unwrap_or_default()) {
+                Ok(text) => {
+                    let bom = if start_of_file {
+                        text.len() - reader.strip_bom(text).len()
+                    } else {
+                        0
+                    };
+                    break bom + reader.feed(&text[bom..], last);
+                }
+                // Old files carry Latin-1 comments; those bytes only ever
+                // matter in comments: they are read as U+FFFD. (The text
+                // before `valid` is valid and left as it is: the fault is
+                // in the new piece.)
+                Err(_) => {
+                    let piece = buf.get(..cut).unwrap_or_default();
+                    let fixed = String::from_utf8_lossy(piece).into_owned().into_bytes();
+                    let len = fixed.len();
+                    buf.splice(..cut, fixed);
+                    cut = len;
+                }
+            }
         };
-        text.push_str(if start_of_file {
-            reader.strip_bom(&piece)
-        } else {
-            &piece
-        });
         start_of_file = false;
-        raw.drain(..cut);
-        let carry = reader.feed(&text, last);
         if last {
             break;
         }
-        text.drain(..carry.min(text.len()));
+        buf.drain(..carry.min(cut));
+        valid = cut - carry.min(cut);
     }
     reader.finish()
 }
