@@ -104,19 +104,31 @@ impl LineGuard {
 
     /// Takes the next bytes of the file, refusing them past a limit.
     pub fn check(&mut self, bytes: &[u8]) -> Result<(), ReadError> {
-        // memchr's search is vectorised: this runs over every byte of a scene.
-        for k in memchr::memchr_iter(b'\n', bytes) {
-            let end = self.seen + k as u64;
-            if end - self.line_start > self.limits.line as u64 {
-                return Err(self.too_long());
+        let limit = self.limits.line as u64;
+        // From each line's start, the last `\n` within the limit's reach
+        // ends it and every line before it, all short enough: only a reach
+        // without any `\n` holds a line too long. So the bytes are searched
+        // about once, in long vectorised runs, not line by line.
+        let mut from = 0;
+        while self.seen + bytes.len() as u64 - self.line_start > limit {
+            // The line starts at `from` or before: within the limit.
+            let reach = (self.line_start + limit - self.seen) as usize;
+            match memchr::memrchr(b'\n', bytes.get(from..=reach).unwrap_or_default()) {
+                Some(k) => {
+                    from += k + 1;
+                    self.line_start = self.seen + from as u64;
+                }
+                None => {
+                    self.lines += newlines(bytes.get(..from).unwrap_or_default());
+                    return Err(self.too_long());
+                }
             }
-            self.lines += 1;
-            self.line_start = end + 1;
+        }
+        self.lines += newlines(bytes);
+        if let Some(k) = memchr::memrchr(b'\n', bytes) {
+            self.line_start = self.seen + k as u64 + 1;
         }
         self.seen += bytes.len() as u64;
-        if self.seen - self.line_start > self.limits.line as u64 {
-            return Err(self.too_long());
-        }
         if self.seen > self.limits.file {
             return Err(ReadError::TooLarge(self.limits.file));
         }
@@ -129,6 +141,15 @@ impl LineGuard {
             limit: self.limits.line,
         }
     }
+}
+
+/// The line breaks in `bytes`: counted in bytes, 255 at most at a time,
+/// which the compiler vectorises.
+fn newlines(bytes: &[u8]) -> usize {
+    bytes
+        .chunks(255)
+        .map(|c| c.iter().fold(0u8, |n, &b| n + u8::from(b == b'\n')) as usize)
+        .sum()
 }
 
 /// Reads all of `input` within `limits`.
@@ -179,6 +200,57 @@ mod tests {
             .to_string(),
             "line 3 is longer than 1 MiB, the longest line glint reads"
         );
+    }
+
+    /// The first line longer than `line` bytes (1-based), line by line.
+    fn first_long_line(bytes: &[u8], line: usize) -> Option<usize> {
+        let mut pieces = bytes.split(|&b| b == b'\n');
+        pieces.position(|piece| piece.len() > line).map(|n| n + 1)
+    }
+
+    #[test]
+    fn long_lines_are_found_in_any_pieces() {
+        let mut state = 7u64;
+        let mut next = |n: u64| {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1442695040888963407);
+            (state >> 33) % n
+        };
+        for _ in 0..3000 {
+            let line = 1 + next(12) as usize;
+            let limits = Limits {
+                file: 1 << 20,
+                line,
+            };
+            // Lines of random lengths around the limit.
+            let mut bytes = Vec::new();
+            for _ in 0..next(20) {
+                bytes.extend(std::iter::repeat_n(b'x', next(line as u64 + 3) as usize));
+                bytes.push(b'\n');
+            }
+            bytes.extend(std::iter::repeat_n(b'y', next(line as u64 + 3) as usize));
+            let mut guard = LineGuard::new(limits);
+            let mut rest = &bytes[..];
+            let got = loop {
+                if rest.is_empty() {
+                    break None;
+                }
+                let (piece, after) = rest.split_at((1 + next(9) as usize).min(rest.len()));
+                rest = after;
+                match guard.check(piece) {
+                    Ok(()) => {}
+                    Err(ReadError::LineTooLong { line, .. }) => break Some(line),
+                    Err(e) => panic!("{e}"),
+                }
+            };
+            assert_eq!(
+                got,
+                first_long_line(&bytes, line),
+                "{:?}, limit {line}",
+                String::from_utf8_lossy(&bytes)
+            );
+        }
     }
 
     #[test]
