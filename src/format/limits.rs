@@ -238,10 +238,12 @@ mod tests {
                 }
                 let (piece, after) = rest.split_at((1 + next(9) as usize).min(rest.len()));
                 rest = after;
-                match guard.check(piece) {
-                    Ok(()) => {}
-                    Err(ReadError::LineTooLong { line, .. }) => break Some(line),
-                    Err(e) => panic!("{e}"),
+                if let Err(e) = guard.check(piece) {
+                    // Only a line too long can go wrong here (0: another error).
+                    break Some(match e {
+                        ReadError::LineTooLong { line, .. } => line,
+                        _ => 0,
+                    });
                 }
             };
             assert_eq!(
