@@ -77,8 +77,11 @@ impl Texture {
 fn wrap(x: f64, n: usize, wraps: bool) -> (usize, usize, f64) {
     let f = x - x.floor();
     let s = if f.is_finite() { f * n as f64 } else { 0.0 };
-    let k = s.floor();
-    let i0 = (k as usize).min(n - 1);
+    // s is finite and at least 0 (x − ⌊x⌋ cannot round below it): its
+    // floor is its truncation, exact through i64, with no library call.
+    let whole = s as i64;
+    let k = whole as f64;
+    let i0 = (whole as usize).min(n - 1);
     let i1 = match (i0 + 1 == n, wraps) {
         (false, _) => i0 + 1,
         (true, true) => 0,
