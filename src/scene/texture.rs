@@ -109,9 +109,9 @@ fn round(x: f32) -> f32 {
 mod tests {
     use super::*;
 
-    /// Values around every case of [`round`]: whole numbers and halves,
-    /// their neighbours, the ends of the exact range, zeros of both signs,
-    /// infinities, NaN, and random values of every size.
+    /// Values around every case of [`round`] and [`wrap`]: whole numbers
+    /// and halves, their neighbours, the ends of the exact ranges, zeros of
+    /// both signs, infinities, NaN, and random values of every size.
     fn edge_values() -> Vec<f64> {
         let mut v = vec![0.0, -0.0, f64::INFINITY, f64::NEG_INFINITY, f64::NAN];
         for base in [
@@ -139,6 +139,31 @@ mod tests {
             v.push((bits >> 11) as f64 / (1u64 << 53) as f64 * 600.0 - 300.0);
         }
         v
+    }
+
+    #[test]
+    fn texel_indices_are_those_of_the_library_floor() {
+        // The lookup's indices and weight as written with `floor` calls.
+        let reference = |x: f64, n: usize, wraps: bool| {
+            let f = x - x.floor();
+            let s = if f.is_finite() { f * n as f64 } else { 0.0 };
+            let k = s.floor();
+            let i0 = (k as usize).min(n - 1);
+            let i1 = match (i0 + 1 == n, wraps) {
+                (false, _) => i0 + 1,
+                (true, true) => 0,
+                (true, false) => i0,
+            };
+            (i0, i1, (s - k).to_bits())
+        };
+        for x in edge_values() {
+            for n in [1, 2, 3, 600, 1024, 1 << 20] {
+                for wraps in [true, false] {
+                    let (i0, i1, w) = wrap(x, n, wraps);
+                    assert_eq!((i0, i1, w.to_bits()), reference(x, n, wraps), "{x:e}, {n}");
+                }
+            }
+        }
     }
 
     #[test]
