@@ -115,11 +115,9 @@ impl Bvh {
         if count > 0 {
             self.visit(child, count, t_best, tally, &mut leaf)
         } else {
-            let mut stop = false;
             with_stack(|stack| {
-                stop = self.walk(rb, child as usize, WIDTH, t_best, stack, tally, &mut leaf);
-            });
-            stop
+                self.walk(rb, child as usize, WIDTH, t_best, stack, tally, &mut leaf)
+            })
         }
     }
 
@@ -258,11 +256,7 @@ impl Bvh {
         let rb = RayBox::new(ray);
         for &slot in roots {
             let stop = if slot == ROOT {
-                let mut stop = false;
-                with_stack(|stack| {
-                    stop = self.walk(&rb, 0, WIDTH, t_best, stack, tally, &mut leaf);
-                });
-                stop
+                with_stack(|stack| self.walk(&rb, 0, WIDTH, t_best, stack, tally, &mut leaf))
             } else {
                 self.enter_slot(&rb, slot, t_best, tally, &mut leaf)
             };
@@ -316,11 +310,11 @@ thread_local! {
     static STACK: RefCell<Stack> = const { RefCell::new(Stack::EMPTY) };
 }
 
-/// Runs `f` with this thread's traversal stack. The stack lives in the
-/// thread, not in the caller's frame: a fresh one would be zeroed (8 KiB)
-/// on every query, a large part of a shadow ray's cost.
+/// Runs `f` with this thread's traversal stack and returns its result.
+/// The stack lives in the thread, not in the caller's frame: a fresh one
+/// would be zeroed (8 KiB) on every query, a large part of a shadow ray's cost.
 #[inline(always)]
-fn with_stack(f: impl FnOnce(&mut Stack)) {
+fn with_stack<R>(f: impl FnOnce(&mut Stack) -> R) -> R {
     STACK.with(|cell| match cell.try_borrow_mut() {
         Ok(mut stack) => f(&mut stack),
         // Only a query made from inside another query's leaf gets here.
@@ -328,5 +322,5 @@ fn with_stack(f: impl FnOnce(&mut Stack)) {
             let mut fresh = Stack::EMPTY;
             f(&mut fresh)
         }
-    });
+    })
 }
