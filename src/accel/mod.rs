@@ -145,7 +145,7 @@ impl<P: Primitive> Accel<P> {
             self.test(i, ray, &mut best, &mut t_best);
         }
         self.bvh
-            .traverse(None, ray, &mut t_best, tally, |prims, t_best| {
+            .traverse::<true>(None, ray, &mut t_best, tally, |prims, t_best| {
                 for &i in prims {
                     self.test(i, ray, &mut best, t_best);
                 }
@@ -268,10 +268,13 @@ impl<P: Primitive> Accel<P> {
             (blocker.is_some(), k.map_or(prims.len(), |k| k + 1))
         };
         match walk {
-            Walk::Up(from) => self.bvh.traverse(from, ray, &mut t_best, tally, leaf),
-            Walk::Within(roots) => self
+            Walk::Up(from) => self
                 .bvh
-                .traverse_within(roots, ray, &mut t_best, tally, leaf),
+                .traverse::<false>(from, ray, &mut t_best, tally, leaf),
+            Walk::Within(roots) => {
+                self.bvh
+                    .traverse_within::<false>(roots, ray, &mut t_best, tally, leaf)
+            }
         }
         if blocker.is_some() {
             *hint = blocker;

@@ -27,8 +27,13 @@ impl Bvh {
     /// first and the descent from the root is skipped: a shadow ray mostly
     /// meets its blocker a level or two up. Otherwise (`None`, or a
     /// primitive not in the tree) the walk is the root's subtree alone.
+    ///
+    /// `NEAREST`: a node's children entered are visited nearest first, for
+    /// a nearest-hit query (a near hit lowers `t_best` and prunes the
+    /// rest); otherwise in slot order, for an any-hit one, which any
+    /// blocker ends: sorting would only delay the next node's load.
     #[inline]
-    pub(crate) fn traverse(
+    pub(crate) fn traverse<const NEAREST: bool>(
         &self,
         from: Option<u32>,
         ray: &Ray,
@@ -66,7 +71,7 @@ impl Bvh {
         let (mut n, mut k) = (start.map_or(0, |slot| split_slot(slot).0), WIDTH);
         with_stack(|stack| {
             loop {
-                if self.walk(&rb, n, k, t_best, stack, tally, &mut leaf) {
+                if self.walk::<NEAREST>(&rb, n, k, t_best, stack, tally, &mut leaf) {
                     return;
                 }
                 match self.parent[n] {
@@ -98,7 +103,7 @@ impl Bvh {
     /// Walks the subtree of `slot` if the ray enters its box: a leaf at
     /// once, a node with `walk`. True when `leaf` stopped it.
     #[inline(always)]
-    fn enter_slot(
+    fn enter_slot<const NEAREST: bool>(
         &self,
         rb: &RayBox,
         slot: u32,
@@ -116,7 +121,7 @@ impl Bvh {
             self.visit(child, count, t_best, tally, &mut leaf)
         } else {
             with_stack(|stack| {
-                self.walk(rb, child as usize, WIDTH, t_best, stack, tally, &mut leaf)
+                self.walk::<NEAREST>(rb, child as usize, WIDTH, t_best, stack, tally, &mut leaf)
             })
         }
     }
@@ -126,7 +131,7 @@ impl Bvh {
     /// when `leaf` stopped it.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
-    fn walk(
+    fn walk<const NEAREST: bool>(
         &self,
         rb: &RayBox,
         root: usize,
@@ -158,22 +163,36 @@ impl Bvh {
                 for (k, &t) in t.iter().enumerate() {
                     hit |= u32::from(t != MISS) << k;
                 }
-                if hit != 0 {
+                // The mask only spares a bounds check: WIDTH − 1 pushes a
+                // level, and the depth is below STACK_SIZE.
+                let mut push = |k: usize| {
+                    entry[sp & (WIDE_STACK - 1)] = (node.child[k], node.count[k]);
+                    stack_t[sp & (WIDE_STACK - 1)] = t[k];
+                    sp += 1;
+                };
+                if hit != 0 && NEAREST {
                     // The children entered, nearest first: push the others
-                    // farthest first, go to the nearest. The mask only
-                    // spares a bounds check: WIDTH − 1 pushes a level, and
-                    // the depth is below STACK_SIZE.
+                    // farthest first, go to the nearest.
                     let (order, n) = in_order(&t, hit);
-                    for &k in order[1..n].iter().rev() {
-                        entry[sp & (WIDE_STACK - 1)] = (node.child[k], node.count[k]);
-                        stack_t[sp & (WIDE_STACK - 1)] = t[k];
-                        sp += 1;
-                    }
+                    order[1..n].iter().rev().for_each(|&k| push(k));
                     (child, count) = (node.child[order[0]], node.count[order[0]]);
                     continue;
                 }
+                if hit != 0 {
+                    // In slot order: push all but the first, last first;
+                    // go to the first.
+                    let first = hit.trailing_zeros() as usize;
+                    let mut rest = hit & (hit - 1);
+                    while rest != 0 {
+                        let k = (u32::BITS - 1 - rest.leading_zeros()) as usize;
+                        push(k);
+                        rest &= !(1 << k);
+                    }
+                    (child, count) = (node.child[first], node.count[first]);
+                    continue;
+                }
             }
-            // Pop the nearest pending child that may still hold a nearer hit.
+            // Pop the last child pushed that may still hold a nearer hit.
             loop {
                 if sp == 0 {
                     return false;
@@ -245,7 +264,7 @@ impl Bvh {
     /// [`Bvh::traverse`] over the subtrees `roots` (as [`Bvh::reach`] gives
     /// them) alone, in that order.
     #[inline]
-    pub(crate) fn traverse_within(
+    pub(crate) fn traverse_within<const NEAREST: bool>(
         &self,
         roots: &[u32],
         ray: &Ray,
@@ -256,9 +275,11 @@ impl Bvh {
         let rb = RayBox::new(ray);
         for &slot in roots {
             let stop = if slot == ROOT {
-                with_stack(|stack| self.walk(&rb, 0, WIDTH, t_best, stack, tally, &mut leaf))
+                with_stack(|stack| {
+                    self.walk::<NEAREST>(&rb, 0, WIDTH, t_best, stack, tally, &mut leaf)
+                })
             } else {
-                self.enter_slot(&rb, slot, t_best, tally, &mut leaf)
+                self.enter_slot::<NEAREST>(&rb, slot, t_best, tally, &mut leaf)
             };
             if stop {
                 return;
