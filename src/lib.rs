@@ -46,6 +46,7 @@ pub mod scene;
 pub mod serve;
 pub mod tiles;
 
+pub use accel::Isa;
 pub use check::{CheckReport, Code, ESTIMATE_RAYS_PER_SECOND, Finding, check};
 pub use compare::{CompareError, Comparison, DEFAULT_THRESHOLD, Group, compare, read_picture};
 pub use geometry::Shape;

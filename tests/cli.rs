@@ -1094,3 +1094,80 @@ fn shading_aovs_are_written_with_the_why_legend() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("light:x"));
     assert!(!bad.exists());
 }
+
+/// A floor, spheres and a tessellated cone of triangles under a point light
+/// and a square light: closest hits, packets and both kinds of shadow rays.
+fn simd_scene() -> String {
+    let mut s = String::from(
+        "camera\n    O= 0 -6 2.5\n    N= 0 1 -0.35\n    image_W= 48\n    image_H= 36\nend\n\
+         light point\n    O= 3 -4 6\n    color= 0.8 0.8 0.8\nend\n\
+         light square\n    O= -2 -1 5\n    Dx= 0.7 0 0\n    Dy= 0 0.7 0\n    color= 0.6 0.6 0.6\nend\n\
+         primitive plane\n    N= 0 0 1\n    R= 0\n    color= 0.8 0.8 0.8\n    diff= 0.8\nend\n",
+    );
+    for (k, x) in [-1.6f64, 0.0, 1.6].iter().enumerate() {
+        s += &format!(
+            "primitive sphere\n    O= {x} 1.5 0.5\n    R= 0.5\n    color= 0.9 0.{k} 0.3\n    diff= 0.7\n    spec= 0.3\nend\n"
+        );
+    }
+    let n = 24;
+    for i in 0..n {
+        let (a, b) = (
+            std::f64::consts::TAU * i as f64 / n as f64,
+            std::f64::consts::TAU * (i + 1) as f64 / n as f64,
+        );
+        s += &format!(
+            "primitive triangle\n    O1= {} {} 0\n    O2= {} {} 0\n    O3= 0 0 1.8\n    color= 0.3 0.6 0.9\n    diff= 0.8\nend\n",
+            a.cos() * 0.9,
+            a.sin() * 0.9 - 0.5,
+            b.cos() * 0.9,
+            b.sin() * 0.9 - 0.5,
+        );
+    }
+    s
+}
+
+/// The ray queries run in the instruction set `GLINT_SIMD` names: every
+/// one this CPU has draws the same bytes as the baseline; one it lacks,
+/// or a name glint does not know, exits 2 and writes nothing.
+#[test]
+fn every_instruction_set_draws_the_same_bytes() {
+    let tmp = scratch("simd");
+    let dir = tmp.path();
+    let scene = write(dir, "simd.txt", &simd_scene());
+    let run = |isa: &str, out: &Path| {
+        Command::new(env!("CARGO_BIN_EXE_glint"))
+            .args(["render", &scene, "-o", out.to_str().unwrap(), "-v"])
+            .env("GLINT_SIMD", isa)
+            .output()
+            .unwrap()
+    };
+    let base = dir.join("baseline.png");
+    let o = run("baseline", &base);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("ray queries in baseline"));
+    let want = std::fs::read(&base).unwrap();
+    let mut compared = 0;
+    for isa in ["best", "avx2", "avx512", "neon"] {
+        let out = dir.join(format!("{isa}.png"));
+        let o = run(isa, &out);
+        let err = String::from_utf8_lossy(&o.stderr);
+        if o.status.success() {
+            assert_eq!(std::fs::read(&out).unwrap(), want, "{isa}: other bytes");
+            compared += 1;
+        } else {
+            assert_eq!(o.status.code(), Some(2), "{isa}: {err}");
+            assert!(err.contains(&format!("this CPU has no {isa}")), "{err}");
+            assert!(!out.exists(), "{isa} wrote {}", out.display());
+        }
+    }
+    assert!(compared >= 1, "`best` is always there");
+    let out = dir.join("bogus.png");
+    let o = run("sse9", &out);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("GLINT_SIMD=sse9: expected best, baseline"),
+        "{err}"
+    );
+    assert!(!out.exists());
+}

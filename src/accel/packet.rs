@@ -16,20 +16,25 @@ impl<P: Primitive> Accel<P> {
     /// The nearest hit of each ray (`ray.t_min` < t, at any distance) into
     /// `out`: for each ray exactly what [`Accel::intersect`] returns.
     pub fn intersect_packet(&self, rays: &[Ray], out: &mut [Option<(u32, Hit)>]) {
-        for (rays, out) in rays.chunks(PACKET_MAX).zip(out.chunks_mut(PACKET_MAX)) {
-            let mut t_best = [f64::INFINITY; PACKET_MAX];
-            for (j, ray) in rays.iter().enumerate() {
-                out[j] = None;
-                for &i in &self.unbounded {
-                    self.test(i, ray, &mut out[j], &mut t_best[j]);
+        self.isa.run(
+            #[inline(always)]
+            || {
+                for (rays, out) in rays.chunks(PACKET_MAX).zip(out.chunks_mut(PACKET_MAX)) {
+                    let mut t_best = [f64::INFINITY; PACKET_MAX];
+                    for (j, ray) in rays.iter().enumerate() {
+                        out[j] = None;
+                        for &i in &self.unbounded {
+                            self.test(i, ray, &mut out[j], &mut t_best[j]);
+                        }
+                    }
+                    self.walk_packet(rays, &mut t_best, |j, prims, t| {
+                        for &p in prims {
+                            self.test(p, &rays[j], &mut out[j], t);
+                        }
+                    });
                 }
-            }
-            self.walk_packet(rays, &mut t_best, |j, prims, t| {
-                for &p in prims {
-                    self.test(p, &rays[j], &mut out[j], t);
-                }
-            });
-        }
+            },
+        )
     }
 
     /// Walks the tree once for up to [`PACKET_MAX`] rays: `leaf(j, prims,

@@ -32,12 +32,14 @@ impl Bvh {
     /// a nearest-hit query (a near hit lowers `t_best` and prunes the
     /// rest); otherwise in slot order, for an any-hit one, which any
     /// blocker ends: sorting would only delay the next node's load.
-    #[inline]
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn traverse<const NEAREST: bool>(
         &self,
         from: Option<u32>,
         ray: &Ray,
         t_best: &mut f64,
+        stack: &mut Stack,
         tally: &mut impl QueryTally,
         mut leaf: impl FnMut(&[u32], &mut f64) -> (bool, usize),
     ) {
@@ -69,17 +71,15 @@ impl Bvh {
         // without one), then each node up the path without the child just
         // come from.
         let (mut n, mut k) = (start.map_or(0, |slot| split_slot(slot).0), WIDTH);
-        with_stack(|stack| {
-            loop {
-                if self.walk::<NEAREST>(&rb, n, k, t_best, stack, tally, &mut leaf) {
-                    return;
-                }
-                match self.parent[n] {
-                    ROOT => return,
-                    up => (n, k) = split_slot(up),
-                }
+        loop {
+            if self.walk::<NEAREST>(&rb, n, k, t_best, stack, tally, &mut leaf) {
+                return;
             }
-        });
+            match self.parent[n] {
+                ROOT => return,
+                up => (n, k) = split_slot(up),
+            }
+        }
     }
 
     /// Visits the leaf of `count` primitives from `start`: `leaf` tests
@@ -103,11 +103,13 @@ impl Bvh {
     /// Walks the subtree of `slot` if the ray enters its box: a leaf at
     /// once, a node with `walk`. True when `leaf` stopped it.
     #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
     fn enter_slot<const NEAREST: bool>(
         &self,
         rb: &RayBox,
         slot: u32,
         t_best: &mut f64,
+        stack: &mut Stack,
         tally: &mut impl QueryTally,
         mut leaf: impl FnMut(&[u32], &mut f64) -> (bool, usize),
     ) -> bool {
@@ -120,9 +122,7 @@ impl Bvh {
         if count > 0 {
             self.visit(child, count, t_best, tally, &mut leaf)
         } else {
-            with_stack(|stack| {
-                self.walk::<NEAREST>(rb, child as usize, WIDTH, t_best, stack, tally, &mut leaf)
-            })
+            self.walk::<NEAREST>(rb, child as usize, WIDTH, t_best, stack, tally, &mut leaf)
         }
     }
 
@@ -263,23 +263,23 @@ impl Bvh {
 
     /// [`Bvh::traverse`] over the subtrees `roots` (as [`Bvh::reach`] gives
     /// them) alone, in that order.
-    #[inline]
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn traverse_within<const NEAREST: bool>(
         &self,
         roots: &[u32],
         ray: &Ray,
         t_best: &mut f64,
+        stack: &mut Stack,
         tally: &mut impl QueryTally,
         mut leaf: impl FnMut(&[u32], &mut f64) -> (bool, usize),
     ) {
         let rb = RayBox::new(ray);
         for &slot in roots {
             let stop = if slot == ROOT {
-                with_stack(|stack| {
-                    self.walk::<NEAREST>(&rb, 0, WIDTH, t_best, stack, tally, &mut leaf)
-                })
+                self.walk::<NEAREST>(&rb, 0, WIDTH, t_best, stack, tally, &mut leaf)
             } else {
-                self.enter_slot::<NEAREST>(&rb, slot, t_best, tally, &mut leaf)
+                self.enter_slot::<NEAREST>(&rb, slot, t_best, stack, tally, &mut leaf)
             };
             if stop {
                 return;
@@ -314,7 +314,7 @@ const WIDE_STACK: usize = WIDTH * STACK_SIZE;
 
 /// A traversal stack: pending children (as in [`Wide`](super::node::Wide)) and their entry distances.
 #[derive(Debug)]
-struct Stack {
+pub(crate) struct Stack {
     entry: [(u32, u32); WIDE_STACK],
     t: [f64; WIDE_STACK],
 }
@@ -335,7 +335,7 @@ thread_local! {
 /// The stack lives in the thread, not in the caller's frame: a fresh one
 /// would be zeroed (8 KiB) on every query, a large part of a shadow ray's cost.
 #[inline(always)]
-fn with_stack<R>(f: impl FnOnce(&mut Stack) -> R) -> R {
+pub(crate) fn with_stack<R>(f: impl FnOnce(&mut Stack) -> R) -> R {
     STACK.with(|cell| match cell.try_borrow_mut() {
         Ok(mut stack) => f(&mut stack),
         // Only a query made from inside another query's leaf gets here.

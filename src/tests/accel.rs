@@ -3,7 +3,7 @@
 //! any-hit answer, on random and degenerate scenes of every kind of shape.
 
 use super::common::{half_sizes, log_size, point_in, random_sign};
-use crate::accel::Accel;
+use crate::accel::{Accel, Isa};
 use crate::geometry::{
     Bezier, Cube, Cylinder, Hit, Plane, Ray, Shape, Sphere, Square, Triangle, offset_origin,
 };
@@ -197,7 +197,14 @@ fn check_tie(accel: &Accel<Object>, objects: &[Object], ray: &Ray) -> bool {
 /// Checks `rays` random rays against brute force: nearest hit with several
 /// t_max, and any-hit with several t_max and light exclusions.
 fn check(objects: &[Object], rays: usize, half: f64, seed: u64) {
-    let accel = Accel::build(objects.to_vec());
+    for isa in Isa::available() {
+        let accel = Accel::build(objects.to_vec()).with_isa(isa);
+        check_queries(&accel, objects, rays, half, seed);
+    }
+}
+
+/// [`check`] of one structure (its queries run in one instruction set).
+fn check_queries(accel: &Accel<Object>, objects: &[Object], rays: usize, half: f64, seed: u64) {
     assert_eq!(accel.objects().len(), objects.len());
     let lights: Vec<u32> = objects.iter().filter_map(|o| o.light()).collect();
     let mut rng = Pcg64::seed_from_u64(seed);
@@ -501,20 +508,26 @@ fn random_packet(rng: &mut Pcg64, objects: &[Object], half: f64) -> Vec<Ray> {
 
 /// Packet queries against brute force, ray by ray: the nearest hit.
 /// Returns the rays that hit something and all rays.
+/// Packets are traced in every instruction set this CPU has.
 fn check_packets(objects: &[Object], packets: usize, half: f64, seed: u64) -> (usize, usize) {
-    let accel = Accel::build(objects.to_vec());
+    let accels: Vec<_> = Isa::available()
+        .into_iter()
+        .map(|isa| (isa, Accel::build(objects.to_vec()).with_isa(isa)))
+        .collect();
     let mut rng = Pcg64::seed_from_u64(seed);
     let mut hits = 0;
     let mut rays_seen = 0;
     for p in 0..packets {
         let rays = random_packet(&mut rng, objects, half);
-        let mut got = vec![None; rays.len()];
-        accel.intersect_packet(&rays, &mut got);
         let expected: Vec<_> = rays
             .iter()
             .map(|r| brute_intersect(objects, r, f64::INFINITY))
             .collect();
-        assert_eq!(got, expected, "packet {p}: {rays:?}");
+        for (isa, accel) in &accels {
+            let mut got = vec![None; rays.len()];
+            accel.intersect_packet(&rays, &mut got);
+            assert_eq!(got, expected, "packet {p} in {}: {rays:?}", isa.name());
+        }
         hits += expected.iter().flatten().count();
         rays_seen += rays.len();
     }

@@ -127,6 +127,26 @@ fn check_interrupt(flag: &AtomicBool) -> Result<(), Failure> {
     Ok(())
 }
 
+/// Applies `GLINT_SIMD`, the instruction set asked for the ray queries
+/// (the same pictures in every one), if it is set.
+fn choose_isa() -> Result<(), String> {
+    let Some(name) = std::env::var_os("GLINT_SIMD").filter(|v| !v.is_empty()) else {
+        return Ok(());
+    };
+    let name = name.to_string_lossy();
+    match glint::Isa::named(&name) {
+        Some(Ok(isa)) => {
+            isa.choose();
+            Ok(())
+        }
+        Some(Err(why)) => Err(format!("error: GLINT_SIMD={}: {why}", shown(&name))),
+        None => Err(format!(
+            "error: GLINT_SIMD={}: expected best, baseline, avx2, avx512 or neon",
+            shown(&name)
+        )),
+    }
+}
+
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
@@ -141,6 +161,10 @@ fn main() -> ExitCode {
             return ExitCode::SUCCESS;
         }
     };
+    if let Err(message) = choose_isa() {
+        say(&message);
+        return ExitCode::from(2);
+    }
     let result = match cli.command {
         // Only a render watches for signals (a probe ends at the first).
         Command::Render(args) => render::exec(args, &interrupt_flag()),

@@ -202,6 +202,12 @@ pub fn exec(args: Args, interrupt: &AtomicBool) -> Result<(), Failure> {
                 "rays: camera {}, reflected {}, refracted {}, shadow {}; {} pixels anti-aliased",
                 r.camera, r.reflected, r.refracted, r.shadow, stats.refined_pixels
             ));
+            let sets: Vec<&str> = glint::Isa::available().iter().map(|i| i.name()).collect();
+            say(&format!(
+                "ray queries in {} (GLINT_SIMD picks one of: {})",
+                glint::Isa::chosen().name(),
+                sets.join(", ")
+            ));
             let p = &stats.photons;
             if p.emitted > 0 {
                 let passes = if p.planned > 0 {
