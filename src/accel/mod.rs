@@ -33,7 +33,6 @@ pub use isa::Isa;
 use node::Item;
 use rayon::prelude::*;
 pub use tally::{QueryCost, QueryTally};
-use walk::{Stack, with_stack};
 
 /// Rays in one packet at most (longer slices are split).
 pub const PACKET_MAX: usize = 64;
@@ -150,40 +149,20 @@ impl<P: Primitive> Accel<P> {
         t_max: f64,
         tally: &mut impl QueryTally,
     ) -> Option<(u32, Hit)> {
-        self.kernel(
-            #[inline(always)]
-            |stack| {
-                let mut best: Option<(u32, Hit)> = None;
-                let mut t_best = t_max;
-                tally.tests(self.unbounded.len());
-                for &i in &self.unbounded {
-                    self.test(i, ray, &mut best, &mut t_best);
+        let mut best: Option<(u32, Hit)> = None;
+        let mut t_best = t_max;
+        tally.tests(self.unbounded.len());
+        for &i in &self.unbounded {
+            self.test(i, ray, &mut best, &mut t_best);
+        }
+        self.bvh
+            .traverse::<true>(None, ray, &mut t_best, self.isa, tally, |prims, t_best| {
+                for &i in prims {
+                    self.test(i, ray, &mut best, t_best);
                 }
-                self.bvh
-                    .traverse::<true>(None, ray, &mut t_best, stack, tally, |prims, t_best| {
-                        for &i in prims {
-                            self.test(i, ray, &mut best, t_best);
-                        }
-                        (false, prims.len())
-                    });
-                best
-            },
-        )
-    }
-
-    /// Runs `f` with this thread's traversal stack, compiled for the
-    /// instruction set of the queries.
-    #[inline(always)]
-    fn kernel<R>(&self, f: impl FnOnce(&mut Stack) -> R) -> R {
-        with_stack(
-            #[inline(always)]
-            |stack| {
-                self.isa.run(
-                    #[inline(always)]
-                    || f(stack),
-                )
-            },
-        )
+                (false, prims.len())
+            });
+        best
     }
 
     /// Tests object `i` against `ray`, keeping in `best` (at `t_best`) the
@@ -278,50 +257,41 @@ impl<P: Primitive> Accel<P> {
         hint: &mut Option<u32>,
         tally: &mut impl QueryTally,
     ) -> bool {
-        self.kernel(
-            #[inline(always)]
-            |stack| {
-                let blocks = |i: u32| self.blocks(i, ray, t_max, ignore_light);
-                if let Some(i) = *hint {
-                    tally.tests(1);
-                    if blocks(i) {
-                        return true;
-                    }
-                }
-                // The unbounded ones in order, up to the first that blocks.
-                let found = self.unbounded.iter().position(|&i| blocks(i));
-                tally.tests(found.map_or(self.unbounded.len(), |k| k + 1));
-                if let Some(k) = found {
-                    *hint = Some(self.unbounded[k]);
-                    return true;
-                }
-                let mut blocker = None;
-                let mut t_best = t_max;
-                let leaf = |prims: &[u32], _: &mut f64| {
-                    let k = prims.iter().position(|&i| blocks(i));
-                    blocker = k.map(|k| prims[k]);
-                    (blocker.is_some(), k.map_or(prims.len(), |k| k + 1))
-                };
-                match walk {
-                    Walk::Up(from) => {
-                        self.bvh
-                            .traverse::<false>(from, ray, &mut t_best, stack, tally, leaf)
-                    }
-                    Walk::Within(roots) => self.bvh.traverse_within::<false>(
-                        roots,
-                        ray,
-                        &mut t_best,
-                        stack,
-                        tally,
-                        leaf,
-                    ),
-                }
-                if blocker.is_some() {
-                    *hint = blocker;
-                }
-                blocker.is_some()
-            },
-        )
+        let blocks = |i: u32| self.blocks(i, ray, t_max, ignore_light);
+        if let Some(i) = *hint {
+            tally.tests(1);
+            if blocks(i) {
+                return true;
+            }
+        }
+        // The unbounded ones in order, up to the first that blocks.
+        let found = self.unbounded.iter().position(|&i| blocks(i));
+        tally.tests(found.map_or(self.unbounded.len(), |k| k + 1));
+        if let Some(k) = found {
+            *hint = Some(self.unbounded[k]);
+            return true;
+        }
+        let mut blocker = None;
+        let mut t_best = t_max;
+        let leaf = |prims: &[u32], _: &mut f64| {
+            let k = prims.iter().position(|&i| blocks(i));
+            blocker = k.map(|k| prims[k]);
+            (blocker.is_some(), k.map_or(prims.len(), |k| k + 1))
+        };
+        match walk {
+            Walk::Up(from) => {
+                self.bvh
+                    .traverse::<false>(from, ray, &mut t_best, self.isa, tally, leaf)
+            }
+            Walk::Within(roots) => {
+                self.bvh
+                    .traverse_within::<false>(roots, ray, &mut t_best, self.isa, tally, leaf)
+            }
+        }
+        if blocker.is_some() {
+            *hint = blocker;
+        }
+        blocker.is_some()
     }
 
     /// Whether object `i` lies on the ray with `ray.t_min` < t < `t_max`

@@ -3,9 +3,10 @@
 use super::build::{Extents, MAX_LEAF, PARALLEL_MIN, SAH_MAX_DEPTH, split};
 use super::bvh::{Binary, Bvh, NO_LEAF, ROOT, split_slot};
 use super::hull::Hull;
+use super::isa::Isa;
 use super::node::{Item, NO_CHILD, Node, Pair, WIDTH, Wide, f32_down, f32_up};
 use super::ray_box::{MISS, RayBox};
-use super::walk::{STACK_SIZE, with_stack};
+use super::walk::STACK_SIZE;
 use crate::accel::QueryCost;
 use crate::geometry::{Aabb, Ray};
 use glam::DVec3;
@@ -242,10 +243,9 @@ fn a_walk_counts_every_child_whose_box_the_ray_enters() {
             let (mut nearest, mut any) = (QueryCost::default(), QueryCost::default());
             let mut t = f64::INFINITY;
             let count = |prims: &[u32], _: &mut f64| (false, prims.len());
-            with_stack(|stack| {
-                bvh.traverse::<true>(None, &ray, &mut t, stack, &mut nearest, count);
-                bvh.traverse::<false>(None, &ray, &mut t, stack, &mut any, count);
-            });
+            let isa = Isa::best();
+            bvh.traverse::<true>(None, &ray, &mut t, isa, &mut nearest, count);
+            bvh.traverse::<false>(None, &ray, &mut t, isa, &mut any, count);
             assert_eq!(nearest, want, "{ray:?}");
             assert_eq!(any, want, "{ray:?}");
             deep += usize::from(want.nodes > 10 && want.tests > 0);

@@ -3,6 +3,7 @@
 
 use super::bvh::{Bvh, NO_LEAF, ROOT, split_slot};
 use super::hull::Hull;
+use super::isa::Isa;
 use super::node::{NO_CHILD, WIDTH};
 use super::ray_box::{FAR_SLACK, MISS, RayBox};
 use super::tally::QueryTally;
@@ -32,14 +33,14 @@ impl Bvh {
     /// a nearest-hit query (a near hit lowers `t_best` and prunes the
     /// rest); otherwise in slot order, for an any-hit one, which any
     /// blocker ends: sorting would only delay the next node's load.
-    #[inline(always)]
+    #[inline]
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn traverse<const NEAREST: bool>(
         &self,
         from: Option<u32>,
         ray: &Ray,
         t_best: &mut f64,
-        stack: &mut Stack,
+        isa: Isa,
         tally: &mut impl QueryTally,
         mut leaf: impl FnMut(&[u32], &mut f64) -> (bool, usize),
     ) {
@@ -71,15 +72,20 @@ impl Bvh {
         // without one), then each node up the path without the child just
         // come from.
         let (mut n, mut k) = (start.map_or(0, |slot| split_slot(slot).0), WIDTH);
-        loop {
-            if self.walk::<NEAREST>(&rb, n, k, t_best, stack, tally, &mut leaf) {
-                return;
-            }
-            match self.parent[n] {
-                ROOT => return,
-                up => (n, k) = split_slot(up),
-            }
-        }
+        with_stack(|stack| {
+            isa.run(
+                #[inline(always)]
+                || loop {
+                    if self.walk::<NEAREST>(&rb, n, k, t_best, stack, tally, &mut leaf) {
+                        return;
+                    }
+                    match self.parent[n] {
+                        ROOT => return,
+                        up => (n, k) = split_slot(up),
+                    }
+                },
+            )
+        });
     }
 
     /// Visits the leaf of `count` primitives from `start`: `leaf` tests
@@ -109,7 +115,7 @@ impl Bvh {
         rb: &RayBox,
         slot: u32,
         t_best: &mut f64,
-        stack: &mut Stack,
+        isa: Isa,
         tally: &mut impl QueryTally,
         mut leaf: impl FnMut(&[u32], &mut f64) -> (bool, usize),
     ) -> bool {
@@ -122,7 +128,22 @@ impl Bvh {
         if count > 0 {
             self.visit(child, count, t_best, tally, &mut leaf)
         } else {
-            self.walk::<NEAREST>(rb, child as usize, WIDTH, t_best, stack, tally, &mut leaf)
+            with_stack(|stack| {
+                isa.run(
+                    #[inline(always)]
+                    || {
+                        self.walk::<NEAREST>(
+                            rb,
+                            child as usize,
+                            WIDTH,
+                            t_best,
+                            stack,
+                            tally,
+                            &mut leaf,
+                        )
+                    },
+                )
+            })
         }
     }
 
@@ -263,23 +284,28 @@ impl Bvh {
 
     /// [`Bvh::traverse`] over the subtrees `roots` (as [`Bvh::reach`] gives
     /// them) alone, in that order.
-    #[inline(always)]
+    #[inline]
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn traverse_within<const NEAREST: bool>(
         &self,
         roots: &[u32],
         ray: &Ray,
         t_best: &mut f64,
-        stack: &mut Stack,
+        isa: Isa,
         tally: &mut impl QueryTally,
         mut leaf: impl FnMut(&[u32], &mut f64) -> (bool, usize),
     ) {
         let rb = RayBox::new(ray);
         for &slot in roots {
             let stop = if slot == ROOT {
-                self.walk::<NEAREST>(&rb, 0, WIDTH, t_best, stack, tally, &mut leaf)
+                with_stack(|stack| {
+                    isa.run(
+                        #[inline(always)]
+                        || self.walk::<NEAREST>(&rb, 0, WIDTH, t_best, stack, tally, &mut leaf),
+                    )
+                })
             } else {
-                self.enter_slot::<NEAREST>(&rb, slot, t_best, stack, tally, &mut leaf)
+                self.enter_slot::<NEAREST>(&rb, slot, t_best, isa, tally, &mut leaf)
             };
             if stop {
                 return;
@@ -314,7 +340,7 @@ const WIDE_STACK: usize = WIDTH * STACK_SIZE;
 
 /// A traversal stack: pending children (as in [`Wide`](super::node::Wide)) and their entry distances.
 #[derive(Debug)]
-pub(crate) struct Stack {
+struct Stack {
     entry: [(u32, u32); WIDE_STACK],
     t: [f64; WIDE_STACK],
 }
@@ -335,7 +361,7 @@ thread_local! {
 /// The stack lives in the thread, not in the caller's frame: a fresh one
 /// would be zeroed (8 KiB) on every query, a large part of a shadow ray's cost.
 #[inline(always)]
-pub(crate) fn with_stack<R>(f: impl FnOnce(&mut Stack) -> R) -> R {
+fn with_stack<R>(f: impl FnOnce(&mut Stack) -> R) -> R {
     STACK.with(|cell| match cell.try_borrow_mut() {
         Ok(mut stack) => f(&mut stack),
         // Only a query made from inside another query's leaf gets here.
