@@ -1,8 +1,8 @@
 //! The instruction set the ray queries run in, chosen once at run time:
-//! the best the CPU has of AVX-512, AVX2 and x86-64's baseline (SSE2), or
-//! NEON on aarch64. The queries are one code, compiled for each; rustc
-//! never fuses a multiply and an add on its own, so every choice gives the
-//! same answers, bit for bit.
+//! AVX2 where the CPU has it, else x86-64's baseline (SSE2), or NEON on
+//! aarch64; AVX-512 when asked for (`GLINT_SIMD`). The walks are one code,
+//! compiled for each; rustc never fuses a multiply and an add on its own,
+//! so every choice gives the same answers, bit for bit.
 
 use pulp::{Arch, Simd, WithSimd};
 use std::sync::OnceLock;
@@ -15,8 +15,14 @@ pub struct Isa(Arch);
 static CHOSEN: OnceLock<Isa> = OnceLock::new();
 
 impl Isa {
-    /// The best this CPU has.
+    /// The fastest this CPU has for the queries: AVX2 over AVX-512 (a
+    /// node's four f64 boxes fill one AVX2 register, and AVX-512 measured
+    /// slower: docs/performance.md), else what pulp finds best.
     pub fn best() -> Isa {
+        #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+        if let Some(simd) = pulp::x86::V3::try_new() {
+            return Isa(Arch::V3(simd));
+        }
         Isa(Arch::new())
     }
 
