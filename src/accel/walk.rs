@@ -72,20 +72,19 @@ impl Bvh {
         // without one), then each node up the path without the child just
         // come from.
         let (mut n, mut k) = (start.map_or(0, |slot| split_slot(slot).0), WIDTH);
-        with_stack(|stack| {
-            isa.run(
-                #[inline(always)]
-                || loop {
-                    if self.walk::<NEAREST>(&rb, n, k, t_best, stack, tally, &mut leaf) {
-                        return;
-                    }
-                    match self.parent[n] {
-                        ROOT => return,
-                        up => (n, k) = split_slot(up),
-                    }
-                },
-            )
-        });
+        with_stack(
+            isa,
+            #[inline(always)]
+            |stack| loop {
+                if self.walk::<NEAREST>(&rb, n, k, t_best, stack, tally, &mut leaf) {
+                    return;
+                }
+                match self.parent[n] {
+                    ROOT => return,
+                    up => (n, k) = split_slot(up),
+                }
+            },
+        );
     }
 
     /// Visits the leaf of `count` primitives from `start`: `leaf` tests
@@ -128,22 +127,13 @@ impl Bvh {
         if count > 0 {
             self.visit(child, count, t_best, tally, &mut leaf)
         } else {
-            with_stack(|stack| {
-                isa.run(
-                    #[inline(always)]
-                    || {
-                        self.walk::<NEAREST>(
-                            rb,
-                            child as usize,
-                            WIDTH,
-                            t_best,
-                            stack,
-                            tally,
-                            &mut leaf,
-                        )
-                    },
-                )
-            })
+            with_stack(
+                isa,
+                #[inline(always)]
+                |stack| {
+                    self.walk::<NEAREST>(rb, child as usize, WIDTH, t_best, stack, tally, &mut leaf)
+                },
+            )
         }
     }
 
@@ -298,12 +288,11 @@ impl Bvh {
         let rb = RayBox::new(ray);
         for &slot in roots {
             let stop = if slot == ROOT {
-                with_stack(|stack| {
-                    isa.run(
-                        #[inline(always)]
-                        || self.walk::<NEAREST>(&rb, 0, WIDTH, t_best, stack, tally, &mut leaf),
-                    )
-                })
+                with_stack(
+                    isa,
+                    #[inline(always)]
+                    |stack| self.walk::<NEAREST>(&rb, 0, WIDTH, t_best, stack, tally, &mut leaf),
+                )
             } else {
                 self.enter_slot::<NEAREST>(&rb, slot, t_best, isa, tally, &mut leaf)
             };
@@ -357,17 +346,24 @@ thread_local! {
     static STACK: RefCell<Stack> = const { RefCell::new(Stack::EMPTY) };
 }
 
-/// Runs `f` with this thread's traversal stack and returns its result.
+/// Runs `f` with this thread's traversal stack, compiled for `isa` (what
+/// it inlines: the walk and its leaves' tests), and returns its result.
 /// The stack lives in the thread, not in the caller's frame: a fresh one
 /// would be zeroed (8 KiB) on every query, a large part of a shadow ray's cost.
 #[inline(always)]
-fn with_stack<R>(f: impl FnOnce(&mut Stack) -> R) -> R {
-    STACK.with(|cell| match cell.try_borrow_mut() {
-        Ok(mut stack) => f(&mut stack),
-        // Only a query made from inside another query's leaf gets here.
-        Err(_) => {
-            let mut fresh = Stack::EMPTY;
-            f(&mut fresh)
-        }
+fn with_stack<R>(isa: Isa, f: impl FnOnce(&mut Stack) -> R) -> R {
+    STACK.with(|cell| {
+        let mut borrowed = cell.try_borrow_mut().ok();
+        // Only a query made from inside another query's leaf finds it
+        // borrowed, and takes a fresh one.
+        let mut fresh = None;
+        let stack = match borrowed.as_deref_mut() {
+            Some(stack) => stack,
+            None => fresh.insert(Stack::EMPTY),
+        };
+        isa.run(
+            #[inline(always)]
+            || f(stack),
+        )
     })
 }
