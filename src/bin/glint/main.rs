@@ -26,7 +26,15 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 /// glint: a fast, exact ray tracer for the teaching framework's scene files.
 #[derive(Parser)]
-#[command(name = "glint", version, about, long_about = None)]
+#[command(
+    name = "glint",
+    version,
+    about,
+    long_about = None,
+    after_help = "Environment: GLINT_SIMD=baseline|avx2|avx512|neon picks the instruction set \
+                  the ray queries run in (by default AVX2 where the CPU has it); every one \
+                  draws the same bytes."
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
