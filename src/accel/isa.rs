@@ -15,6 +15,9 @@ pub struct Isa(Arch);
 static CHOSEN: OnceLock<Isa> = OnceLock::new();
 
 impl Isa {
+    /// The names [`Isa::named`] takes besides `best`, the baseline first.
+    pub const NAMES: [&str; 4] = ["baseline", "avx2", "avx512", "neon"];
+
     /// The fastest this CPU has for the queries: AVX2 over AVX-512 (a
     /// node's four f64 boxes fill one AVX2 register, and AVX-512 measured
     /// slower: docs/performance.md), else what pulp finds best.
@@ -53,8 +56,7 @@ impl Isa {
 
     /// Every instruction set this CPU has, the baseline first.
     pub fn available() -> Vec<Isa> {
-        let names = ["baseline", "avx2", "avx512", "neon"];
-        names
+        Isa::NAMES
             .into_iter()
             .filter_map(|name| Isa::named(name)?.ok())
             .collect()

@@ -102,8 +102,9 @@ impl LineGuard {
         }
     }
 
-    /// Takes the next bytes of the file, refusing them past a limit.
-    pub fn check(&mut self, bytes: &[u8]) -> Result<(), ReadError> {
+    /// Takes the next bytes of the file, refusing them past a limit;
+    /// returns the offset just past their last `\n`, if they hold one.
+    pub fn check(&mut self, bytes: &[u8]) -> Result<Option<usize>, ReadError> {
         let limit = self.limits.line as u64;
         // From each line's start, the last `\n` within the limit's reach
         // ends it and every line before it, all short enough: only a reach
@@ -125,14 +126,15 @@ impl LineGuard {
             }
         }
         self.lines += newlines(bytes);
-        if let Some(k) = memchr::memrchr(b'\n', bytes) {
-            self.line_start = self.seen + k as u64 + 1;
+        let line_end = memchr::memrchr(b'\n', bytes).map(|k| k + 1);
+        if let Some(end) = line_end {
+            self.line_start = self.seen + end as u64;
         }
         self.seen += bytes.len() as u64;
         if self.seen > self.limits.file {
             return Err(ReadError::TooLarge(self.limits.file));
         }
-        Ok(())
+        Ok(line_end)
     }
 
     fn too_long(&self) -> ReadError {
@@ -190,7 +192,7 @@ mod tests {
         assert!(matches!(e, ReadError::TooLarge(20)), "{e}");
         // One byte at a time: the same answers.
         let mut g = LineGuard::new(SMALL);
-        let r: Result<Vec<()>, _> = b"ab\nabcde".iter().map(|b| g.check(&[*b])).collect();
+        let r: Result<Vec<_>, _> = b"ab\nabcde".iter().map(|b| g.check(&[*b])).collect();
         assert!(matches!(r, Err(ReadError::LineTooLong { line: 2, .. })));
         assert_eq!(
             ReadError::LineTooLong {

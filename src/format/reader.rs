@@ -84,7 +84,7 @@ fn parse_chunked(
             .take(want as u64)
             .read_to_end(&mut buf)
             .map_err(|e| read_error(path, &ReadError::Io(e), 0))?;
-        guard
+        let line_end = guard
             .check(buf.get(old..).unwrap_or_default())
             .map_err(|e| {
                 let line = match e {
@@ -99,11 +99,8 @@ fn parse_chunked(
         let mut cut = if last {
             buf.len()
         } else {
-            match buf
-                .get(old..)
-                .and_then(|new| new.iter().rposition(|&b| b == b'\n'))
-            {
-                Some(k) => old + k + 1,
+            match line_end {
+                Some(end) => old + end,
                 None => continue,
             }
         };

@@ -149,8 +149,9 @@ fn choose_isa() -> Result<(), String> {
         }
         Some(Err(why)) => Err(format!("error: GLINT_SIMD={}: {why}", shown(&name))),
         None => Err(format!(
-            "error: GLINT_SIMD={}: expected best, baseline, avx2, avx512 or neon",
-            shown(&name)
+            "error: GLINT_SIMD={}: expected best, {}",
+            shown(&name),
+            glint::Isa::NAMES.join(", ")
         )),
     }
 }
