@@ -87,12 +87,16 @@ impl<'a> Frame<'a> {
 
     /// The random stream of one camera sample: a hash of (pixel, sample, seed).
     pub fn state(&self, x: u32, y: u32, sample: u32) -> PathState {
-        let pixel = y as u64 * self.width as u64 + x as u64;
-        let key = mix(mix(self.seed ^ mix(pixel)) ^ sample as u64);
         PathState {
-            rng: Pcg32::seed_from_u64(key),
+            rng: stream(self.pixel_key(x, y), sample),
             rays: RayCounts::default(),
         }
+    }
+
+    /// The part of [`Frame::state`]'s hash that is the pixel's (and the seed's).
+    fn pixel_key(&self, x: u32, y: u32) -> u64 {
+        let pixel = y as u64 * self.width as u64 + x as u64;
+        mix(self.seed ^ mix(pixel))
     }
 
     /// The camera ray at sub-pixel offset (fx, fy) in [0,1)² of pixel (x, y),
@@ -124,29 +128,46 @@ impl<'a> Frame<'a> {
         x: u32,
         y: u32,
         mut st: PathState,
-        (r, c): (u32, u32),
-        (rows, cols): (u32, u32),
+        stratum: (u32, u32),
+        strata: (u32, u32),
     ) -> (Ray, PathState) {
+        let draws = self.draw(&mut st.rng, stratum, strata);
+        (self.ray_of(x, y, draws), st)
+    }
+
+    /// The draws of a sample of stratum (r, c) of `rows` × `cols`: its
+    /// jitter, then with a lens a point of the lens (all through the
+    /// pixel's centre when the frame is `centred`).
+    fn draw(&self, rng: &mut Pcg32, (r, c): (u32, u32), (rows, cols): (u32, u32)) -> Draws {
         use rand::Rng;
         let (fx, fy) = if self.centred {
             (0.5, 0.5)
         } else {
-            let fx = (c as f64 + st.rng.random::<f64>()) / cols as f64;
-            let fy = (r as f64 + st.rng.random::<f64>()) / rows as f64;
+            let fx = (c as f64 + rng.random::<f64>()) / cols as f64;
+            let fy = (r as f64 + rng.random::<f64>()) / rows as f64;
             (fx, fy)
         };
-        if !self.camera.has_lens() {
-            return (self.ray(x, y, fx, fy), st);
-        }
-        let disc = loop {
-            let u = 2.0 * st.rng.random::<f64>() - 1.0;
-            let v = 2.0 * st.rng.random::<f64>() - 1.0;
-            if u * u + v * v <= 1.0 {
-                break (u, v);
+        let disc = self.camera.has_lens().then(|| {
+            loop {
+                let u = 2.0 * rng.random::<f64>() - 1.0;
+                let v = 2.0 * rng.random::<f64>() - 1.0;
+                if u * u + v * v <= 1.0 {
+                    break (u, v);
+                }
             }
-        };
-        let (i, j) = self.image_position(x, y, fx, fy);
-        (self.camera.lens_ray(i, j, disc), st)
+        });
+        Draws { fx, fy, disc }
+    }
+
+    /// The camera ray of pixel (x, y) that `draws` says.
+    fn ray_of(&self, x: u32, y: u32, Draws { fx, fy, disc }: Draws) -> Ray {
+        match disc {
+            None => self.ray(x, y, fx, fy),
+            Some(disc) => {
+                let (i, j) = self.image_position(x, y, fx, fy);
+                self.camera.lens_ray(i, j, disc)
+            }
+        }
     }
 
     /// Frame position (rows from the bottom, columns) of sub-pixel (fx, fy)
@@ -324,42 +345,109 @@ impl<'a> Frame<'a> {
         mut seen: impl FnMut(u32, u32, &O),
     ) {
         let strata = strata(n);
-        let (w, n) = (xs.len() as u64, u64::from(n));
         // Up to 64 pixels of up to 2^32 samples: u64 on any target.
-        let total = w * ys.len() as u64 * n;
-        // Sample i of the tile: pixel i / n (row by row), sample i % n. A
-        // packet may end inside a pixel; the pixel's sum runs on into the next.
-        let at = |i: u64| {
-            let p = i / n;
-            let (x, y) = (xs.start + (p % w) as u32, ys.start + (p / w) as u32);
-            (x, y, (i % n) as u32)
-        };
+        let total = xs.len() as u64 * ys.len() as u64 * u64::from(n);
+        // The tile's samples pixel by pixel (row by row), each pixel's in
+        // order. A packet may end inside a pixel; the pixel's sum runs on
+        // into the next.
+        let mut next = Cursor::new(self, xs.start, ys.start);
+        let mut at = [next; PACKET_MAX];
+        // A packet's draws are made for all its samples first, then its
+        // rays: two short loops whose samples overlap in the CPU.
+        let mut rngs: [Pcg32; PACKET_MAX] = std::array::from_fn(|_| Pcg32::new(0, 0));
+        let mut draws = [Draws::default(); PACKET_MAX];
         let mut sum = DVec3::ZERO;
         let mut pixel_rays = RayCounts::default();
         let mut start = 0;
         while start < total {
             let len = (total - start).min(PACKET_MAX as u64);
+            let len = len as usize;
+            for ((a, rng), d) in at.iter_mut().zip(&mut rngs).zip(&mut draws).take(len) {
+                *a = next;
+                *rng = stream(next.key, next.s);
+                *d = self.draw(rng, next.stratum, strata);
+                next.advance(self, &xs, n, strata.1);
+            }
             self.packet(
-                len as usize,
+                len,
                 |k| {
-                    let (x, y, s) = at(start + k as u64);
-                    self.jittered(x, y, s, strata)
+                    let st = PathState {
+                        rng: rngs[k].clone(),
+                        rays: RayCounts::default(),
+                    };
+                    (self.ray_of(at[k].x, at[k].y, draws[k]), st)
                 },
                 fresh,
                 |k, c, o, r| {
-                    let (x, y, s) = at(start + k as u64);
+                    let Cursor { x, y, s, .. } = at[k];
                     seen(x, y, o);
                     // Summed in sample order, as ray after ray would be.
                     sum += c;
                     pixel_rays.add(r);
-                    if u64::from(s) + 1 == n {
+                    if s + 1 == n {
                         put(x, y, sum / n as f64, &pixel_rays);
                         (sum, pixel_rays) = (DVec3::ZERO, RayCounts::default());
                     }
                 },
                 hints,
             );
-            start += len;
+            start += len as u64;
+        }
+    }
+}
+
+/// The random stream of sample `sample` of the pixel whose key is `key`.
+fn stream(key: u64, sample: u32) -> Pcg32 {
+    Pcg32::seed_from_u64(mix(key ^ sample as u64))
+}
+
+/// A camera sample's draws: its sub-pixel offset (in [0,1)², y down) and,
+/// with a lens, its point of the unit disc.
+#[derive(Clone, Copy, Default)]
+struct Draws {
+    fx: f64,
+    fy: f64,
+    disc: Option<(f64, f64)>,
+}
+
+/// One stratified sample of a tile, counted on from the last (no division
+/// a sample): its pixel and that pixel's key, its index and stratum.
+#[derive(Clone, Copy)]
+struct Cursor {
+    x: u32,
+    y: u32,
+    key: u64,
+    s: u32,
+    stratum: (u32, u32),
+}
+
+impl Cursor {
+    /// Sample 0 of pixel (x, y) of `frame`.
+    fn new(frame: &Frame<'_>, x: u32, y: u32) -> Self {
+        Cursor {
+            x,
+            y,
+            key: frame.pixel_key(x, y),
+            s: 0,
+            stratum: (0, 0),
+        }
+    }
+
+    /// On to the next sample of `n` a pixel in strata of `cols` columns,
+    /// and after a pixel's last to the next pixel of columns `xs` (row by row).
+    fn advance(&mut self, frame: &Frame<'_>, xs: &std::ops::Range<u32>, n: u32, cols: u32) {
+        self.s += 1;
+        self.stratum.1 += 1;
+        if self.stratum.1 == cols {
+            self.stratum = (self.stratum.0 + 1, 0);
+        }
+        if self.s == n {
+            let (x, y) = if self.x + 1 == xs.end {
+                (xs.start, self.y + 1)
+            } else {
+                (self.x + 1, self.y)
+            };
+            *self = Cursor::new(frame, x, y);
         }
     }
 }
