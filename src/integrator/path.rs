@@ -56,3 +56,13 @@ pub(crate) struct PathState {
     /// Rays traced so far.
     pub rays: RayCounts,
 }
+
+impl PathState {
+    /// A sample drawing from `rng`, no ray traced yet.
+    pub fn new(rng: Pcg32) -> Self {
+        PathState {
+            rng,
+            rays: RayCounts::default(),
+        }
+    }
+}

@@ -87,10 +87,7 @@ impl<'a> Frame<'a> {
 
     /// The random stream of one camera sample: a hash of (pixel, sample, seed).
     pub fn state(&self, x: u32, y: u32, sample: u32) -> PathState {
-        PathState {
-            rng: stream(self.pixel_key(x, y), sample),
-            rays: RayCounts::default(),
-        }
+        PathState::new(stream(self.pixel_key(x, y), sample))
     }
 
     /// The part of [`Frame::state`]'s hash that is the pixel's (and the seed's).
@@ -205,7 +202,13 @@ impl<'a> Frame<'a> {
     /// of PM3's four rays ⅓ px above, left, right and below the centre, or
     /// of the colon family's turned grid.
     pub fn grid_sample(&self, x: u32, y: u32, k: usize) -> (Ray, PathState) {
-        let (fx, fy) = match self.anti_alias() {
+        let (fx, fy) = self.grid_offset(k);
+        (self.ray(x, y, fx, fy), self.state(x, y, 1 + k as u32))
+    }
+
+    /// The sub-pixel offset of [`Frame::grid_sample`] `k`.
+    fn grid_offset(&self, k: usize) -> (f64, f64) {
+        match self.anti_alias() {
             AntiAlias::Cross5 => {
                 let (di, dj) = CROSS[k % CROSS.len()];
                 // Rows from the top here, the lineage's i from the bottom.
@@ -224,8 +227,19 @@ impl<'a> Frame<'a> {
                 let at = |k: usize| ((k % g) as f64 + 0.5) / g as f64;
                 (at(k), at(k / g))
             }
-        };
-        (self.ray(x, y, fx, fy), self.state(x, y, 1 + k as u32))
+        }
+    }
+
+    /// The random streams of `n` samples, sample k's being `(x, y, s)` =
+    /// `sample(k)`'s: made in a loop of their own, ahead of the rays, so
+    /// that the samples' chains of dependent steps overlap in the CPU.
+    fn streams(&self, n: usize, sample: impl Fn(usize) -> (u32, u32, u32)) -> [Pcg32; PACKET_MAX] {
+        let mut rngs: [Pcg32; PACKET_MAX] = std::array::from_fn(|_| Pcg32::new(0, 0));
+        for (k, rng) in rngs.iter_mut().enumerate().take(n) {
+            let (x, y, s) = sample(k);
+            *rng = stream(self.pixel_key(x, y), s);
+        }
+        rngs
     }
 
     /// A refined pixel's colour from its pass-1 colour `first` (as stored)
@@ -251,10 +265,8 @@ impl<'a> Frame<'a> {
         debug_assert!(n <= PACKET_MAX);
         // Slots past n hold placeholders; they are not traced.
         let mut camera = [Ray::new(DVec3::ZERO, DVec3::Z); PACKET_MAX];
-        let mut states: [PathState; PACKET_MAX] = std::array::from_fn(|_| PathState {
-            rng: Pcg32::new(0, 0),
-            rays: RayCounts::default(),
-        });
+        let mut states: [PathState; PACKET_MAX] =
+            std::array::from_fn(|_| PathState::new(Pcg32::new(0, 0)));
         for (k, (ray, st)) in camera.iter_mut().zip(&mut states).take(n).enumerate() {
             (*ray, *st) = sample_of(k);
         }
@@ -287,9 +299,14 @@ impl<'a> Frame<'a> {
     ) -> DVec3 {
         // Summed in grid order, as one ray after another would be.
         let mut sum = DVec3::ZERO;
+        let n = self.refine_count();
+        let rngs = self.streams(n, |k| (x, y, 1 + k as u32));
         self.packet(
-            self.refine_count(),
-            |k| self.grid_sample(x, y, k),
+            n,
+            |k| {
+                let (fx, fy) = self.grid_offset(k);
+                (self.ray(x, y, fx, fy), PathState::new(rngs[k].clone()))
+            },
             fresh,
             |_, c, o, r| {
                 sum += c;
@@ -315,11 +332,16 @@ impl<'a> Frame<'a> {
     ) {
         let w = xs.len();
         let pixel = |k: usize| (xs.start + (k % w) as u32, ys.start + (k / w) as u32);
+        let n = w * ys.len();
+        let rngs = self.streams(n, |k| {
+            let (x, y) = pixel(k);
+            (x, y, 0)
+        });
         self.packet(
-            w * ys.len(),
+            n,
             |k| {
                 let (x, y) = pixel(k);
-                self.centre_sample(x, y)
+                (self.ray(x, y, 0.5, 0.5), PathState::new(rngs[k].clone()))
             },
             fresh,
             |k, c, o, r| {
@@ -371,10 +393,7 @@ impl<'a> Frame<'a> {
             self.packet(
                 len,
                 |k| {
-                    let st = PathState {
-                        rng: rngs[k].clone(),
-                        rays: RayCounts::default(),
-                    };
+                    let st = PathState::new(rngs[k].clone());
                     (self.ray_of(at[k].x, at[k].y, draws[k]), st)
                 },
                 fresh,
