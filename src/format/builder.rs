@@ -65,6 +65,18 @@ impl<'p> Builder<'p> {
         i
     }
 
+    /// Makes room for the primitive blocks of the `rest` bytes still to
+    /// read, at the rate of the `read` bytes read so far.
+    pub fn anticipate(&mut self, read: u64, rest: u64) {
+        if read == 0 {
+            return;
+        }
+        let more = u128::from(self.next_block) * u128::from(rest) / u128::from(read);
+        let more = usize::try_from(more).unwrap_or(usize::MAX);
+        self.scene.reserve_blocks(more);
+        self.evidence.reserve_spheres(more);
+    }
+
     /// The scene built so far, adapted to dialect `choice`, with the notes
     /// about it and its files.
     pub fn finish(self, mut choice: DialectChoice) -> Scene {

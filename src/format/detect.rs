@@ -172,6 +172,12 @@ impl Evidence {
         self.l17_marker.is_some()
     }
 
+    /// Makes room for `more` spheres, if memory allows.
+    pub fn reserve_spheres(&mut self, more: usize) {
+        // Room not made is only the copies not saved.
+        let _ = self.spheres.try_reserve(more);
+    }
+
     /// A sphere with centre `o` and radius `r`.
     pub fn sphere(&mut self, o: DVec3, r: f64) {
         self.spheres.push((o, r));

@@ -34,8 +34,9 @@ const CHUNK: usize = 1 << 20;
 
 pub(crate) fn parse_file(path: &Path, dialect: Option<Dialect>) -> Result<Scene, SceneError> {
     let file = open_regular(path).map_err(|e| read_error(path, &e, 0))?;
+    let size = file.metadata().ok().map(|m| m.len());
     let dir = path.parent().unwrap_or(Path::new("."));
-    parse_chunked(file, path, dir, CHUNK, Limits::DEFAULT, dialect)
+    parse_chunked(file, size, path, dir, CHUNK, Limits::DEFAULT, dialect)
 }
 
 /// The error for a scene file that cannot be read: at `FILE:LINE:1` for a
@@ -56,9 +57,11 @@ fn read_error(path: &Path, e: &dyn std::fmt::Display, line: usize) -> SceneError
 }
 
 /// Parses a scene file from `input`, reading about `chunk` bytes at a time
-/// and keeping only the text not yet parsed, within `limits`.
+/// and keeping only the text not yet parsed, within `limits`; `size`, the
+/// input's length if known, lets the scene make room for what is to come.
 fn parse_chunked(
     mut input: impl Read,
+    size: Option<u64>,
     path: &Path,
     base: &Path,
     chunk: usize,
@@ -74,6 +77,8 @@ fn parse_chunked(
     let mut buf: Vec<u8> = Vec::new();
     let mut valid = 0;
     let mut start_of_file = true;
+    // Bytes of the input parsed so far (the block still open not counted).
+    let mut parsed: u64 = 0;
     loop {
         // A block still open is parsed again from its header after each
         // read; reading an eighth of it at least keeps a huge one linear.
@@ -130,6 +135,12 @@ fn parse_chunked(
         start_of_file = false;
         if last {
             break;
+        }
+        parsed += (carry.min(cut)) as u64;
+        if let Some(size) = size {
+            reader
+                .builder
+                .anticipate(parsed, size.saturating_sub(parsed));
         }
         buf.drain(..carry.min(cut));
         valid = cut - carry.min(cut);
@@ -1106,7 +1117,17 @@ mod tests {
         let text = String::from_utf8_lossy(bytes);
         let whole = two.install(|| parse_str(&text, Some(mem_path()), base, None));
         for n in SIZES {
-            let read = |n| parse_chunked(bytes, mem_path(), base, n, Limits::DEFAULT, None);
+            let read = |n| {
+                parse_chunked(
+                    bytes,
+                    Some(bytes.len() as u64),
+                    mem_path(),
+                    base,
+                    n,
+                    Limits::DEFAULT,
+                    None,
+                )
+            };
             let d = difference(&whole, &two.install(|| read(n)));
             assert_eq!(d, None, "{name}, read in chunks of {n} bytes");
             let d = difference(&whole, &one.install(|| read(n)));
@@ -1530,7 +1551,7 @@ primitive sphere
                 fail_at: None,
                 interrupt: false,
             };
-            let chunked = parse_chunked(input, mem_path(), base, 16, Limits::DEFAULT, None);
+            let chunked = parse_chunked(input, None, mem_path(), base, 16, Limits::DEFAULT, None);
             assert_eq!(difference(&whole, &chunked), None, "step {step}");
         }
     }
@@ -1542,8 +1563,16 @@ primitive sphere
             line: 64,
         };
         let text = format!("camera\n image_W= 3\n{}\nend\n", "x".repeat(65));
-        let e =
-            parse_chunked(text.as_bytes(), mem_path(), Path::new("."), 7, small, None).unwrap_err();
+        let e = parse_chunked(
+            text.as_bytes(),
+            None,
+            mem_path(),
+            Path::new("."),
+            7,
+            small,
+            None,
+        )
+        .unwrap_err();
         let m = e
             .diagnostics
             .first()
@@ -1559,11 +1588,20 @@ primitive sphere
         // Named as every scene error is: FILE:LINE:1.
         assert!(format!("{e}").contains("--> tests/data/mem.txt:3:1"), "{e}");
         // NUL bytes without end, and endless short lines.
-        let e =
-            parse_chunked(io::repeat(0), mem_path(), Path::new("."), 16, small, None).unwrap_err();
+        let e = parse_chunked(
+            io::repeat(0),
+            None,
+            mem_path(),
+            Path::new("."),
+            16,
+            small,
+            None,
+        )
+        .unwrap_err();
         assert!(format!("{e}").contains("line 1 is longer"), "{e}");
         let e = parse_chunked(
             io::repeat(b'\n'),
+            None,
             mem_path(),
             Path::new("."),
             16,
@@ -1590,8 +1628,16 @@ primitive sphere
             fail_at: Some(100),
             interrupt: false,
         };
-        let e = parse_chunked(input, mem_path(), Path::new("."), 64, Limits::DEFAULT, None)
-            .unwrap_err();
+        let e = parse_chunked(
+            input,
+            None,
+            mem_path(),
+            Path::new("."),
+            64,
+            Limits::DEFAULT,
+            None,
+        )
+        .unwrap_err();
         let d = e.diagnostics.first();
         assert_eq!(e.diagnostics.len(), 1);
         assert_eq!(
@@ -1666,7 +1712,15 @@ primitive sphere
             let d = difference(&whole, &from_file);
             assert_eq!(d, None, "{}", path.display());
             for n in [1, 7, 64] {
-                let chunked = parse_chunked(&bytes[..], &path, dir, n, Limits::DEFAULT, None);
+                let chunked = parse_chunked(
+                    &bytes[..],
+                    Some(bytes.len() as u64),
+                    &path,
+                    dir,
+                    n,
+                    Limits::DEFAULT,
+                    None,
+                );
                 let d = difference(&whole, &chunked);
                 assert_eq!(d, None, "{}, chunks of {n} bytes", path.display());
             }

@@ -138,6 +138,11 @@ impl MaterialTable {
         (self.entries.len() - 1) as u32
     }
 
+    /// Room for `more` materials beyond those stored, if memory allows.
+    pub fn try_reserve(&mut self, more: usize) -> Result<(), std::collections::TryReserveError> {
+        self.entries.try_reserve(more)
+    }
+
     /// How many materials are stored (shared ones once).
     pub fn len(&self) -> usize {
         self.entries.len()

@@ -190,6 +190,20 @@ impl Scene {
         &self.files
     }
 
+    /// Makes room, in one step, for `more` primitive blocks' objects,
+    /// materials and lines beyond those held (one shape each): a reader
+    /// that can tell how many are still to come saves the copies of
+    /// growing a million-entry list by doubling (objects, aligned to
+    /// cache lines, are copied whole on every growth). Room left unused
+    /// is never touched, so it costs address space only; an estimate too
+    /// large for that makes no room (the lists grow as they would have).
+    pub(crate) fn reserve_blocks(&mut self, more: usize) {
+        // Room not made is only the copies not saved.
+        let _ = self.objects.try_reserve(more);
+        let _ = self.materials.try_reserve(more);
+        let _ = self.block_lines.try_reserve(more);
+    }
+
     /// Sets the files besides the scene file that it read.
     pub(crate) fn set_files(&mut self, files: Vec<PathBuf>) {
         self.files = files;
