@@ -62,6 +62,18 @@ struct Spans<'a> {
     start: usize,
 }
 
+impl Spans<'_> {
+    /// Past the line break (`\n`, `\r\n` or `\r`) at `start`, if any.
+    fn skip_break(&mut self) {
+        let rest = self.text.as_bytes().get(self.start..).unwrap_or_default();
+        self.start += match rest {
+            [b'\r', b'\n', ..] => 2,
+            [b'\r' | b'\n', ..] => 1,
+            _ => 0,
+        };
+    }
+}
+
 impl<'a> Iterator for Spans<'a> {
     type Item = (usize, &'a str);
 
@@ -134,28 +146,105 @@ pub(crate) fn words_into<'a>(line: &'a str, out: &mut Vec<Word<'a>>) {
 /// [`words_into`] for a line of ASCII text (nearly every line of every
 /// file): a byte is a character, so a column is a byte offset plus one.
 fn ascii_words<'a>(line: &'a str, path: Option<usize>, out: &mut Vec<Word<'a>>) {
-    let b = line.as_bytes();
-    // Byte start (and so column − 1) of the word being read.
+    let found = ascii_line(line, 0, Some(path), out);
+    debug_assert_eq!(
+        found,
+        Some(line.len()),
+        "an ASCII line without a line break"
+    );
+}
+
+/// The words of the line that starts at byte `start` of `text` and ends at
+/// the next line break (or the text's end), pushed onto `out` as
+/// [`words_into`] makes them, in one pass over its bytes; returns where it
+/// ends. `path` is [`path_value_start`] of the line when the caller knows
+/// it, `None` to work it out here. Gives up (`None`, with `out` in any
+/// state) at a byte that is not ASCII before any comment: such a line is
+/// read character by character.
+fn ascii_line<'a>(
+    text: &'a str,
+    start: usize,
+    mut path: Option<Option<usize>>,
+    out: &mut Vec<Word<'a>>,
+) -> Option<usize> {
+    // The text from the line's start: words are taken from it.
+    let rest = &text[start..];
+    let r = rest.as_bytes();
+    // Where the line that holds byte `from` of `rest` ends.
+    let end = |from: usize| memchr::memchr2(b'\n', b'\r', &r[from..]).map_or(r.len(), |k| from + k);
+    // Byte start (in the line, and so column − 1) of the word being read.
     let mut current: Option<usize> = None;
     let word = |start: Option<usize>| start.map(|s| (s, s + 1));
-    for (i, &c) in b.iter().enumerate() {
-        let comment = c == b'#'
-            || (c == b'/'
-                && b.get(i + 1) == Some(&b'/')
-                && !inside_path(line, path, word(current), i));
-        if comment {
-            close(out, line, word(current), i, i + 1);
-            return;
-        }
-        // The ASCII characters `char::is_whitespace` takes: tab to carriage return, space.
-        if matches!(c, b'\t'..=b'\r' | b' ') {
-            close(out, line, word(current.take()), i, i + 1);
-        } else if current.is_none() {
-            current = Some(i);
+    let mut stop = r.len();
+    for (at, &c) in r.iter().enumerate() {
+        match CLASS[usize::from(c)] {
+            Class::Word => {
+                if current.is_none() {
+                    current = Some(at);
+                }
+            }
+            Class::Blank => close(out, rest, word(current.take()), at, at + 1),
+            Class::Break => {
+                stop = at;
+                break;
+            }
+            Class::Other => return None,
+            Class::Comment | Class::Slash => {
+                let comment = c == b'#'
+                    || (r.get(at + 1) == Some(&b'/') && {
+                        // Only a `//` glued inside a word of a path value is
+                        // kept: the line's end is needed to know if it is one.
+                        let line = &rest[..end(at)];
+                        let p = *path.get_or_insert_with(|| path_value_start(line));
+                        !inside_path(line, p, word(current), at)
+                    });
+                if comment {
+                    close(out, rest, word(current), at, at + 1);
+                    return Some(start + end(at));
+                }
+                if current.is_none() {
+                    current = Some(at);
+                }
+            }
         }
     }
-    close(out, line, word(current), b.len(), b.len() + 1);
+    close(out, rest, word(current), stop, stop + 1);
+    Some(start + stop)
 }
+
+/// What a byte is to [`ascii_line`].
+#[derive(Clone, Copy)]
+enum Class {
+    /// Part of a word.
+    Word,
+    /// An ASCII blank that `char::is_whitespace` takes (line breaks aside).
+    Blank,
+    /// `\n` or `\r`.
+    Break,
+    /// `#`.
+    Comment,
+    /// `/`.
+    Slash,
+    /// Not ASCII.
+    Other,
+}
+
+/// [`Class`] by byte.
+const CLASS: [Class; 256] = {
+    let mut t = [Class::Other; 256];
+    let mut c = 0;
+    while c < 128 {
+        t[c] = match c as u8 {
+            b'\t' | b'\x0b' | b'\x0c' | b' ' => Class::Blank,
+            b'\n' | b'\r' => Class::Break,
+            b'#' => Class::Comment,
+            b'/' => Class::Slash,
+            _ => Class::Word,
+        };
+        c += 1;
+    }
+    t
+};
 
 /// [`words_into`] for any line, character by character.
 fn char_words<'a>(line: &'a str, path: Option<usize>, out: &mut Vec<Word<'a>>) {
@@ -237,8 +326,24 @@ impl<'a> Lexer<'a> {
 
     /// The next line, or `None` at the end of the text.
     pub(crate) fn next_line(&mut self) -> Option<Line<'a, '_>> {
-        let (start, text) = self.spans.next()?;
-        words_into(text, &mut self.words);
+        let (all, start) = (self.spans.text, self.spans.start);
+        if start >= all.len() {
+            return None;
+        }
+        // An ASCII line is split into words in the same pass that finds its end.
+        self.words.clear();
+        let (start, text) = match ascii_line(all, start, None, &mut self.words) {
+            Some(end) => {
+                self.spans.start = end;
+                self.spans.skip_break();
+                (start, &all[start..end])
+            }
+            None => {
+                let (start, text) = self.spans.next()?;
+                words_into(text, &mut self.words);
+                (start, text)
+            }
+        };
         Some(Line {
             start,
             text,
@@ -376,11 +481,12 @@ mod tests {
         })]
         /// ASCII lines split byte by byte as character by character: the
         /// same words, offsets and columns, comments and paths included.
+        /// (A line holds no line break: those are the next test's.)
         #[test]
         fn ascii_lines_split_as_characters_do(
             parts in proptest::collection::vec(proptest::sample::select(vec![
                 "texture=", "file=", "texture", "=", "O=", "R=", "1", "-2.5", "a//b", "//", "/",
-                "#", "x#y", "end", "a.bmp", " ", "  ", "\t", "\x0b", "\x0c", "\r",
+                "#", "x#y", "end", "a.bmp", " ", "  ", "\t", "\x0b", "\x0c",
             ]), 0..12),
         ) {
             let line = parts.concat();
@@ -389,6 +495,37 @@ mod tests {
             ascii_words(&line, path, &mut fast);
             char_words(&line, path, &mut slow);
             proptest::prop_assert_eq!(fast, slow, "{:?}", line);
+        }
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::test_runner::Config {
+            cases: 4096,
+            rng_seed: proptest::test_runner::RngSeed::Fixed(41),
+            ..proptest::test_runner::Config::default()
+        })]
+        /// The lexer's one pass over ASCII lines finds the lines and words
+        /// that splitting the text into lines and then each line into words
+        /// finds: line breaks of every kind, blank and final lines, comments,
+        /// paths and characters that are not ASCII included.
+        #[test]
+        fn one_pass_lines_are_split_lines_split_into_words(
+            parts in proptest::collection::vec(proptest::sample::select(vec![
+                "texture=", "file=", "texture", "=", "O=", "R=", "1", "-2.5", "a//b", "//", "/",
+                "#", "x#y", "end", "a.bmp", "é", "t", "f", " ", "  ", "\t", "\x0b", "\x0c",
+                "\r", "\n", "\r\n", "\n\n",
+            ]), 0..24),
+        ) {
+            let text = parts.concat();
+            let mut lexer = Lexer::new(&text);
+            let mut got = Vec::new();
+            while let Some(line) = lexer.next_line() {
+                got.push((line.start, line.text, line.words.to_vec()));
+            }
+            let want: Vec<_> = (Spans { text: &text, start: 0 })
+                .map(|(start, line)| (start, line, words(line)))
+                .collect();
+            proptest::prop_assert_eq!(got, want, "{:?}", text);
         }
     }
 
