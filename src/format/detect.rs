@@ -81,10 +81,13 @@ impl Evidence {
         }
         let kind = kind.unwrap_or("");
         let primitive = matches!(head, "primitive" | "object" | "obj");
-        let lazycal = ["control_points", "Dz", "S"].into_iter().find(|k| has(k));
-        let abcbdf = ["center", "V0", "V1", "V2", "V3"]
-            .into_iter()
-            .find(|k| has(k));
+        // Looked for in a bezier's keys only.
+        let lazycal = || ["control_points", "Dz", "S"].into_iter().find(|k| has(k));
+        let abcbdf = || {
+            ["center", "V0", "V1", "V2", "V3"]
+                .into_iter()
+                .find(|k| has(k))
+        };
         match (head, kind) {
             ("camera", _) => {
                 if has("Dx") {
@@ -108,13 +111,13 @@ impl Evidence {
             (_, "Bezier" | "NomalBall" | "NomalPlane") if primitive => {
                 self.v_mark(line, format!("primitive {kind}"));
             }
-            (_, "bezier") if primitive && lazycal.is_some() => {
-                let key = lazycal.unwrap_or_default();
+            (_, "bezier") if primitive && lazycal().is_some() => {
+                let key = lazycal().unwrap_or_default();
                 self.l17_marker
                     .get_or_insert((line, format!("a bezier's `{key}=`")));
             }
-            (_, "bezier") if primitive && abcbdf.is_some() => {
-                let key = abcbdf.unwrap_or_default();
+            (_, "bezier") if primitive && abcbdf().is_some() => {
+                let key = abcbdf().unwrap_or_default();
                 self.a18_mark(line, format!("a bezier's `{key}=`"));
             }
             (_, "triangle") if primitive && has("A0") => {
