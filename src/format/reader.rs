@@ -136,7 +136,7 @@ fn parse_chunked(
         if last {
             break;
         }
-        parsed += (carry.min(cut)) as u64;
+        parsed += carry.min(cut) as u64;
         if let Some(size) = size {
             reader
                 .builder
@@ -1588,27 +1588,13 @@ primitive sphere
         // Named as every scene error is: FILE:LINE:1.
         assert!(format!("{e}").contains("--> tests/data/mem.txt:3:1"), "{e}");
         // NUL bytes without end, and endless short lines.
-        let e = parse_chunked(
-            io::repeat(0),
-            None,
-            mem_path(),
-            Path::new("."),
-            16,
-            small,
-            None,
-        )
-        .unwrap_err();
+        let endless = |byte: u8| {
+            let input = io::repeat(byte);
+            parse_chunked(input, None, mem_path(), Path::new("."), 16, small, None).unwrap_err()
+        };
+        let e = endless(0);
         assert!(format!("{e}").contains("line 1 is longer"), "{e}");
-        let e = parse_chunked(
-            io::repeat(b'\n'),
-            None,
-            mem_path(),
-            Path::new("."),
-            16,
-            small,
-            None,
-        )
-        .unwrap_err();
+        let e = endless(b'\n');
         assert!(format!("{e}").contains("larger than 4096 bytes"), "{e}");
         // Not a regular file: said so, never "not found", never blocking.
         for (p, why) in [
