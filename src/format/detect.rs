@@ -175,10 +175,9 @@ impl Evidence {
         self.l17_marker.is_some()
     }
 
-    /// Makes room for `more` spheres, if memory allows.
+    /// Makes room for `more` spheres ([`crate::scene::make_room`]).
     pub fn reserve_spheres(&mut self, more: usize) {
-        // Room not made is only the copies not saved.
-        let _ = self.spheres.try_reserve(more);
+        crate::scene::make_room(&mut self.spheres, more);
     }
 
     /// A sphere with centre `o` and radius `r`.

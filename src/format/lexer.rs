@@ -84,16 +84,11 @@ impl<'a> Iterator for Spans<'a> {
         if start >= bytes.len() {
             return None;
         }
-        let rest = &bytes[start..];
-        // memchr's search is vectorised: this runs over every byte of a scene.
-        let (line_end, next) = match memchr::memchr2(b'\n', b'\r', rest) {
-            Some(k) if rest[k] == b'\r' && rest.get(k + 1) == Some(&b'\n') => {
-                (start + k, start + k + 2)
-            }
-            Some(k) => (start + k, start + k + 1),
-            None => (bytes.len(), bytes.len()),
-        };
-        self.start = next;
+        // memchr's search is vectorised.
+        let line_end =
+            memchr::memchr2(b'\n', b'\r', &bytes[start..]).map_or(bytes.len(), |k| start + k);
+        self.start = line_end;
+        self.skip_break();
         Some((start, &text[start..line_end]))
     }
 }
@@ -122,7 +117,8 @@ fn path_value_start(line: &str) -> Option<usize> {
         .then_some(lead + key_len + gap + 1)
 }
 
-/// The words of one line, before any comment, into `out` (cleared first).
+/// The words of one line (it holds no line break), before any comment,
+/// into `out` (cleared first).
 ///
 /// A comment starts at any `#`, and at any `//`, even one glued to a value
 /// (`O= 0 5 0// centre`, `end// sphere`, `R= 1#x`), as the spec allows both
@@ -175,39 +171,49 @@ fn ascii_line<'a>(
     // Byte start (in the line, and so column − 1) of the word being read.
     let mut current: Option<usize> = None;
     let word = |start: Option<usize>| start.map(|s| (s, s + 1));
-    let mut stop = r.len();
-    for (at, &c) in r.iter().enumerate() {
+    let mut at = 0;
+    let stop = loop {
+        let Some(&c) = r.get(at) else {
+            break r.len();
+        };
         match CLASS[usize::from(c)] {
             Class::Word => {
                 if current.is_none() {
                     current = Some(at);
                 }
+                // The word's plain bytes that follow, at once.
+                let plain = |c: &&u8| matches!(CLASS[usize::from(**c)], Class::Word);
+                at += r
+                    .get(at + 1..)
+                    .unwrap_or_default()
+                    .iter()
+                    .take_while(plain)
+                    .count();
             }
             Class::Blank => close(out, rest, word(current.take()), at, at + 1),
-            Class::Break => {
-                stop = at;
-                break;
-            }
+            Class::Break => break at,
             Class::Other => return None,
             Class::Comment | Class::Slash => {
-                let comment = c == b'#'
-                    || (r.get(at + 1) == Some(&b'/') && {
-                        // Only a `//` glued inside a word of a path value is
-                        // kept: the line's end is needed to know if it is one.
-                        let line = &rest[..end(at)];
-                        let p = *path.get_or_insert_with(|| path_value_start(line));
-                        !inside_path(line, p, word(current), at)
-                    });
-                if comment {
+                // A `#` or a `//`: a comment unless a `//` glued inside a
+                // word of a path value, which the line's end tells.
+                let mark = c == b'#' || r.get(at + 1) == Some(&b'/');
+                let line_end = if mark { end(at) } else { 0 };
+                let kept = c == b'/' && mark && {
+                    let line = &rest[..line_end];
+                    let p = *path.get_or_insert_with(|| path_value_start(line));
+                    inside_path(line, p, word(current), at)
+                };
+                if mark && !kept {
                     close(out, rest, word(current), at, at + 1);
-                    return Some(start + end(at));
+                    return Some(start + line_end);
                 }
                 if current.is_none() {
                     current = Some(at);
                 }
             }
         }
-    }
+        at += 1;
+    };
     close(out, rest, word(current), stop, stop + 1);
     Some(start + stop)
 }

@@ -1,6 +1,7 @@
 //! Surface materials, stored compactly: a colour per material and its
 //! other keys (its "finish") shared between materials that agree bit for bit.
 
+use super::room::make_room;
 use glam::DVec3;
 use std::collections::HashMap;
 use std::hash::{DefaultHasher, Hash, Hasher};
@@ -138,9 +139,9 @@ impl MaterialTable {
         (self.entries.len() - 1) as u32
     }
 
-    /// Room for `more` materials beyond those stored, if memory allows.
-    pub fn try_reserve(&mut self, more: usize) -> Result<(), std::collections::TryReserveError> {
-        self.entries.try_reserve(more)
+    /// Room for `more` materials beyond those stored ([`make_room`]).
+    pub fn make_room(&mut self, more: usize) {
+        make_room(&mut self.entries, more);
     }
 
     /// How many materials are stored (shared ones once).

@@ -12,6 +12,7 @@ mod escape;
 mod light;
 mod material;
 mod object;
+mod room;
 mod texture;
 
 pub use background::Background;
@@ -22,6 +23,7 @@ pub use escape::escaped;
 pub use light::{Light, LightKind, PhotonEmission};
 pub use material::Material;
 pub use object::{Object, Origin};
+pub(crate) use room::make_room;
 pub use texture::Texture;
 
 use crate::geometry::{Shape, Sphere, Square};
@@ -190,18 +192,15 @@ impl Scene {
         &self.files
     }
 
-    /// Makes room, in one step, for `more` primitive blocks' objects,
-    /// materials and lines beyond those held (one shape each): a reader
-    /// that can tell how many are still to come saves the copies of
-    /// growing a million-entry list by doubling (objects, aligned to
-    /// cache lines, are copied whole on every growth). Room left unused
-    /// is never touched, so it costs address space only; an estimate too
-    /// large for that makes no room (the lists grow as they would have).
+    /// Makes room for `more` primitive blocks' objects, materials and
+    /// lines beyond those held (one shape each): a reader that can tell how
+    /// many are still to come saves the copies of growing a million-entry
+    /// list by doubling (objects, aligned to cache lines, are copied whole
+    /// on every growth). See [`make_room`].
     pub(crate) fn reserve_blocks(&mut self, more: usize) {
-        // Room not made is only the copies not saved.
-        let _ = self.objects.try_reserve(more);
-        let _ = self.materials.try_reserve(more);
-        let _ = self.block_lines.try_reserve(more);
+        make_room(&mut self.objects, more);
+        self.materials.make_room(more);
+        make_room(&mut self.block_lines, more);
     }
 
     /// Sets the files besides the scene file that it read.
