@@ -62,6 +62,13 @@ struct Spans<'a> {
     start: usize,
 }
 
+/// Where the line holding byte `from` of `bytes` ends: its first `\n` or
+/// `\r` from there, or the end (memchr's search is vectorised).
+fn line_end(bytes: &[u8], from: usize) -> usize {
+    memchr::memchr2(b'\n', b'\r', bytes.get(from..).unwrap_or_default())
+        .map_or(bytes.len(), |k| from + k)
+}
+
 impl Spans<'_> {
     /// Past the line break (`\n`, `\r\n` or `\r`) at `start`, if any.
     fn skip_break(&mut self) {
@@ -84,9 +91,7 @@ impl<'a> Iterator for Spans<'a> {
         if start >= bytes.len() {
             return None;
         }
-        // memchr's search is vectorised.
-        let line_end =
-            memchr::memchr2(b'\n', b'\r', &bytes[start..]).map_or(bytes.len(), |k| start + k);
+        let line_end = line_end(bytes, start);
         self.start = line_end;
         self.skip_break();
         Some((start, &text[start..line_end]))
@@ -167,7 +172,6 @@ fn ascii_line<'a>(
     let rest = &text[start..];
     let r = rest.as_bytes();
     // Where the line that holds byte `from` of `rest` ends.
-    let end = |from: usize| memchr::memchr2(b'\n', b'\r', &r[from..]).map_or(r.len(), |k| from + k);
     // Byte start (in the line, and so column − 1) of the word being read.
     let mut current: Option<usize> = None;
     let word = |start: Option<usize>| start.map(|s| (s, s + 1));
@@ -197,7 +201,7 @@ fn ascii_line<'a>(
                 // A `#` or a `//`: a comment unless a `//` glued inside a
                 // word of a path value, which the line's end tells.
                 let mark = c == b'#' || r.get(at + 1) == Some(&b'/');
-                let line_end = if mark { end(at) } else { 0 };
+                let line_end = if mark { line_end(r, at) } else { 0 };
                 let kept = c == b'/' && mark && {
                     let line = &rest[..line_end];
                     let p = *path.get_or_insert_with(|| path_value_start(line));
@@ -502,14 +506,7 @@ mod tests {
             char_words(&line, path, &mut slow);
             proptest::prop_assert_eq!(fast, slow, "{:?}", line);
         }
-    }
 
-    proptest::proptest! {
-        #![proptest_config(proptest::test_runner::Config {
-            cases: 4096,
-            rng_seed: proptest::test_runner::RngSeed::Fixed(41),
-            ..proptest::test_runner::Config::default()
-        })]
         /// The lexer's one pass over ASCII lines finds the lines and words
         /// that splitting the text into lines and then each line into words
         /// finds: line breaks of every kind, blank and final lines, comments,

@@ -230,14 +230,15 @@ impl<'a> Frame<'a> {
         }
     }
 
-    /// The random streams of `n` samples, sample k's being `(x, y, s)` =
-    /// `sample(k)`'s: made in a loop of their own, ahead of the rays, so
-    /// that the samples' chains of dependent steps overlap in the CPU.
-    fn streams(&self, n: usize, sample: impl Fn(usize) -> (u32, u32, u32)) -> [Pcg32; PACKET_MAX] {
+    /// The random streams of `n` samples, sample k's being sample `s` of
+    /// the pixel whose key is `key`, (`key`, `s`) = `sample(k)`: made in a
+    /// loop of their own, ahead of the rays, so that the samples' chains
+    /// of dependent steps overlap in the CPU.
+    fn streams(&self, n: usize, sample: impl Fn(usize) -> (u64, u32)) -> [Pcg32; PACKET_MAX] {
         let mut rngs: [Pcg32; PACKET_MAX] = std::array::from_fn(|_| Pcg32::new(0, 0));
         for (k, rng) in rngs.iter_mut().enumerate().take(n) {
-            let (x, y, s) = sample(k);
-            *rng = stream(self.pixel_key(x, y), s);
+            let (key, s) = sample(k);
+            *rng = stream(key, s);
         }
         rngs
     }
@@ -300,7 +301,8 @@ impl<'a> Frame<'a> {
         // Summed in grid order, as one ray after another would be.
         let mut sum = DVec3::ZERO;
         let n = self.refine_count();
-        let rngs = self.streams(n, |k| (x, y, 1 + k as u32));
+        let key = self.pixel_key(x, y);
+        let rngs = self.streams(n, |k| (key, 1 + k as u32));
         self.packet(
             n,
             |k| {
@@ -335,7 +337,7 @@ impl<'a> Frame<'a> {
         let n = w * ys.len();
         let rngs = self.streams(n, |k| {
             let (x, y) = pixel(k);
-            (x, y, 0)
+            (self.pixel_key(x, y), 0)
         });
         self.packet(
             n,
