@@ -16,7 +16,7 @@ pub(crate) use model::{Ambient, AntiAlias, Glossy, Lens, Model, PhotonBounce};
 pub use observer::RayKind;
 pub(crate) use observer::{AaHash, LightSeen, NoObserver, PathObserver, SurfaceSeen, mix};
 pub use path::RayCounts;
-pub(crate) use path::{PathState, SceneAccel};
+pub(crate) use path::{PathState, SceneAccel, Stream};
 pub(crate) use tree::RayTree;
 pub use tree::{Blocker, HitInfo, LightTerm, PhotonTerm, RayNode};
 pub(crate) use visibility::ShadowHints;

@@ -4,6 +4,8 @@
 use crate::accel::{Accel, Primitive};
 use crate::geometry::Shape;
 use crate::scene::Object;
+use rand::RngCore;
+use rand::SeedableRng;
 use rand_pcg::Pcg32;
 
 /// The acceleration structure over a scene's objects.
@@ -52,17 +54,57 @@ impl RayCounts {
 /// The state one camera sample carries down its tree of rays.
 pub(crate) struct PathState {
     /// The sample's own random stream.
-    pub rng: Pcg32,
+    pub rng: Stream,
     /// Rays traced so far.
     pub rays: RayCounts,
 }
 
 impl PathState {
     /// A sample drawing from `rng`, no ray traced yet.
-    pub fn new(rng: Pcg32) -> Self {
+    pub fn new(rng: Stream) -> Self {
         PathState {
             rng,
             rays: RayCounts::default(),
         }
+    }
+}
+
+/// A sample's random stream, `Pcg32::seed_from_u64(seed)`, seeded when
+/// first drawn from: a sample that draws nothing (a pixel's centre lit by
+/// point lights) never pays for the seeding.
+#[derive(Clone, Debug)]
+pub(crate) struct Stream {
+    seed: u64,
+    rng: Option<Pcg32>,
+}
+
+impl Stream {
+    /// The stream of `seed`, not seeded yet.
+    pub fn new(seed: u64) -> Self {
+        Stream { seed, rng: None }
+    }
+
+    /// The generator, seeded now if nothing was drawn from it yet.
+    #[inline]
+    pub fn get(&mut self) -> &mut Pcg32 {
+        let seed = self.seed;
+        self.rng.get_or_insert_with(|| Pcg32::seed_from_u64(seed))
+    }
+}
+
+impl RngCore for Stream {
+    #[inline]
+    fn next_u32(&mut self) -> u32 {
+        self.get().next_u32()
+    }
+
+    #[inline]
+    fn next_u64(&mut self) -> u64 {
+        self.get().next_u64()
+    }
+
+    #[inline]
+    fn fill_bytes(&mut self, dst: &mut [u8]) {
+        self.get().fill_bytes(dst)
     }
 }

@@ -5,12 +5,11 @@ use super::camera::CameraRays;
 use crate::accel::PACKET_MAX;
 use crate::geometry::Ray;
 use crate::integrator::{
-    AntiAlias, Integrator, PathObserver, PathState, RayCounts, ShadowHints, mix,
+    AntiAlias, Integrator, PathObserver, PathState, RayCounts, ShadowHints, Stream, mix,
 };
 use crate::sampling::strata;
 use crate::scene::Camera;
 use glam::DVec3;
-use rand::SeedableRng;
 use rand_pcg::Pcg32;
 
 /// Sub-pixel grid of the framework's anti-aliasing.
@@ -128,7 +127,7 @@ impl<'a> Frame<'a> {
         stratum: (u32, u32),
         strata: (u32, u32),
     ) -> (Ray, PathState) {
-        let draws = self.draw(&mut st.rng, stratum, strata);
+        let draws = self.draw(st.rng.get(), stratum, strata);
         (self.ray_of(x, y, draws), st)
     }
 
@@ -230,19 +229,6 @@ impl<'a> Frame<'a> {
         }
     }
 
-    /// The random streams of `n` samples, sample k's being sample `s` of
-    /// the pixel whose key is `key`, (`key`, `s`) = `sample(k)`: made in a
-    /// loop of their own, ahead of the rays, so that the samples' chains
-    /// of dependent steps overlap in the CPU.
-    fn streams(&self, n: usize, sample: impl Fn(usize) -> (u64, u32)) -> [Pcg32; PACKET_MAX] {
-        let mut rngs: [Pcg32; PACKET_MAX] = std::array::from_fn(|_| Pcg32::new(0, 0));
-        for (k, rng) in rngs.iter_mut().enumerate().take(n) {
-            let (key, s) = sample(k);
-            *rng = stream(key, s);
-        }
-        rngs
-    }
-
     /// A refined pixel's colour from its pass-1 colour `first` (as stored)
     /// and the sum of its pass-2 samples.
     pub fn refined(&self, first: DVec3, sum: DVec3) -> DVec3 {
@@ -267,7 +253,7 @@ impl<'a> Frame<'a> {
         // Slots past n hold placeholders; they are not traced.
         let mut camera = [Ray::new(DVec3::ZERO, DVec3::Z); PACKET_MAX];
         let mut states: [PathState; PACKET_MAX] =
-            std::array::from_fn(|_| PathState::new(Pcg32::new(0, 0)));
+            std::array::from_fn(|_| PathState::new(Stream::new(0)));
         for (k, (ray, st)) in camera.iter_mut().zip(&mut states).take(n).enumerate() {
             (*ray, *st) = sample_of(k);
         }
@@ -302,12 +288,12 @@ impl<'a> Frame<'a> {
         let mut sum = DVec3::ZERO;
         let n = self.refine_count();
         let key = self.pixel_key(x, y);
-        let rngs = self.streams(n, |k| (key, 1 + k as u32));
         self.packet(
             n,
             |k| {
                 let (fx, fy) = self.grid_offset(k);
-                (self.ray(x, y, fx, fy), PathState::new(rngs[k].clone()))
+                let st = PathState::new(stream(key, 1 + k as u32));
+                (self.ray(x, y, fx, fy), st)
             },
             fresh,
             |_, c, o, r| {
@@ -335,15 +321,12 @@ impl<'a> Frame<'a> {
         let w = xs.len();
         let pixel = |k: usize| (xs.start + (k % w) as u32, ys.start + (k / w) as u32);
         let n = w * ys.len();
-        let rngs = self.streams(n, |k| {
-            let (x, y) = pixel(k);
-            (self.pixel_key(x, y), 0)
-        });
         self.packet(
             n,
             |k| {
                 let (x, y) = pixel(k);
-                (self.ray(x, y, 0.5, 0.5), PathState::new(rngs[k].clone()))
+                let st = PathState::new(stream(self.pixel_key(x, y), 0));
+                (self.ray(x, y, 0.5, 0.5), st)
             },
             fresh,
             |k, c, o, r| {
@@ -378,7 +361,7 @@ impl<'a> Frame<'a> {
         let mut at = [next; PACKET_MAX];
         // A packet's draws are made for all its samples first, then its
         // rays: two short loops whose samples overlap in the CPU.
-        let mut rngs: [Pcg32; PACKET_MAX] = std::array::from_fn(|_| Pcg32::new(0, 0));
+        let mut rngs: [Stream; PACKET_MAX] = std::array::from_fn(|_| Stream::new(0));
         let mut draws = [Draws::default(); PACKET_MAX];
         let mut sum = DVec3::ZERO;
         let mut pixel_rays = RayCounts::default();
@@ -389,7 +372,7 @@ impl<'a> Frame<'a> {
             for ((a, rng), d) in at.iter_mut().zip(&mut rngs).zip(&mut draws).take(len) {
                 *a = next;
                 *rng = stream(next.key, next.s);
-                *d = self.draw(rng, next.stratum, strata);
+                *d = self.draw(rng.get(), next.stratum, strata);
                 next.advance(self, &xs, n, strata.1);
             }
             self.packet(
@@ -418,8 +401,8 @@ impl<'a> Frame<'a> {
 }
 
 /// The random stream of sample `sample` of the pixel whose key is `key`.
-fn stream(key: u64, sample: u32) -> Pcg32 {
-    Pcg32::seed_from_u64(mix(key ^ sample as u64))
+fn stream(key: u64, sample: u32) -> Stream {
+    Stream::new(mix(key ^ sample as u64))
 }
 
 /// A camera sample's draws: its sub-pixel offset (in [0,1)², y down) and,

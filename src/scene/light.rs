@@ -159,20 +159,18 @@ impl Light {
     ) -> u32 {
         match self.kind {
             LightKind::Point { pos } => {
-                toward(origin, pos, &mut each);
+                let (dir, dist) = toward(origin, pos);
+                each(dir, dist);
                 1
             }
             LightKind::Square { center, dx, dy } => {
                 let (rows, cols) = strata(samples);
                 let (cell_a, cell_b) = (2.0 / cols as f64, 2.0 / rows as f64);
-                for r in 0..rows {
-                    for c in 0..cols {
-                        let a = (c as f64 + rng.random::<f64>()) * cell_a - 1.0;
-                        let b = (r as f64 + rng.random::<f64>()) * cell_b - 1.0;
-                        toward(origin, center + dx * a + dy * b, &mut each);
-                    }
-                }
-                rows * cols
+                in_batches(rows, cols, &mut each, |r, c| {
+                    let a = (c as f64 + rng.random::<f64>()) * cell_a - 1.0;
+                    let b = (r as f64 + rng.random::<f64>()) * cell_b - 1.0;
+                    toward(origin, center + dx * a + dy * b)
+                })
             }
             LightKind::Sphere { center, radius } => {
                 let to = center - origin;
@@ -187,23 +185,20 @@ impl Light {
                 let sphere = Sphere::new(center, radius);
                 let tangent = (d2 - radius * radius).max(0.0).sqrt();
                 let (rows, cols) = strata(samples);
-                for r in 0..rows {
-                    for c in 0..cols {
-                        // Uniform in solid angle over the cone: cos θ uniform in [cos_max, 1].
-                        let cos_t =
-                            1.0 - (r as f64 + rng.random::<f64>()) / rows as f64 * (1.0 - cos_max);
-                        let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
-                        let phi = TAU * (c as f64 + rng.random::<f64>()) / cols as f64;
-                        let dir = (w * cos_t + (u_axis * phi.cos() + v_axis * phi.sin()) * sin_t)
-                            .normalize();
-                        // Up to the light's surface (the tangent distance for rounding at the rim).
-                        let t_light = sphere
-                            .roots(&Ray::new(origin, dir))
-                            .map_or(tangent, |(t0, _)| t0);
-                        each(dir, t_light);
-                    }
-                }
-                rows * cols
+                in_batches(rows, cols, &mut each, |r, c| {
+                    // Uniform in solid angle over the cone: cos θ uniform in [cos_max, 1].
+                    let cos_t =
+                        1.0 - (r as f64 + rng.random::<f64>()) / rows as f64 * (1.0 - cos_max);
+                    let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
+                    let phi = TAU * (c as f64 + rng.random::<f64>()) / cols as f64;
+                    let dir =
+                        (w * cos_t + (u_axis * phi.cos() + v_axis * phi.sin()) * sin_t).normalize();
+                    // Up to the light's surface (the tangent distance for rounding at the rim).
+                    let t_light = sphere
+                        .roots(&Ray::new(origin, dir))
+                        .map_or(tangent, |(t0, _)| t0);
+                    (dir, t_light)
+                })
             }
         }
     }
@@ -227,22 +222,25 @@ impl Light {
                 for i in -(half as i64)..=half as i64 {
                     for j in -(half as i64)..=half as i64 {
                         let p = center + dx * (j as f64 / q) - dy * (i as f64 / q);
-                        toward(origin, p, &mut each);
+                        let (dir, dist) = toward(origin, p);
+                        each(dir, dist);
                     }
                 }
                 (side * side) as u32
             }
             _ => {
-                toward(origin, self.center(), &mut each);
+                let (dir, dist) = toward(origin, self.center());
+                each(dir, dist);
                 1
             }
         }
     }
 }
 
-/// Calls `each` with the unit direction and distance from `origin` to `p`.
+/// The unit direction and distance from `origin` to `p` (+z when they
+/// coincide).
 #[inline(always)]
-fn toward(origin: DVec3, p: DVec3, each: &mut impl FnMut(DVec3, f64)) {
+fn toward(origin: DVec3, p: DVec3) -> (DVec3, f64) {
     let to = p - origin;
     let dist = to.length();
     let dir = if dist > 0.0 {
@@ -250,5 +248,40 @@ fn toward(origin: DVec3, p: DVec3, each: &mut impl FnMut(DVec3, f64)) {
     } else {
         DVec3::Z
     };
-    each(dir, dist);
+    (dir, dist)
+}
+
+/// Shadow samples made ahead of their rays, at most this many at a time.
+const BATCH: usize = 16;
+
+/// Calls `each(unit direction, distance)` with `make(row, column)` for
+/// each cell of a `rows`×`cols` grid, row by row, and returns their number.
+/// Up to [`BATCH`] samples are made before their rays are traced, so that
+/// their square roots and divisions overlap in the CPU rather than wait on
+/// each ray's walk; the order of the draws and of the rays is the same.
+#[inline(always)]
+fn in_batches(
+    rows: u32,
+    cols: u32,
+    each: &mut impl FnMut(DVec3, f64),
+    mut make: impl FnMut(u32, u32) -> (DVec3, f64),
+) -> u32 {
+    let mut batch = [(DVec3::ZERO, 0.0); BATCH];
+    let (mut r, mut c) = (0, 0);
+    let mut left = rows * cols;
+    while left > 0 {
+        let len = left.min(BATCH as u32);
+        for slot in &mut batch[..len as usize] {
+            *slot = make(r, c);
+            c += 1;
+            if c == cols {
+                (r, c) = (r + 1, 0);
+            }
+        }
+        for &(dir, dist) in &batch[..len as usize] {
+            each(dir, dist);
+        }
+        left -= len;
+    }
+    rows * cols
 }

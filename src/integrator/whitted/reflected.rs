@@ -76,7 +76,7 @@ impl Whitted<'_> {
         };
         let mut sum = DVec3::ZERO;
         for k in 0..samples {
-            let rng = &mut fan.st.rng;
+            let rng = fan.st.rng.get();
             let dir = match model.glossy {
                 Glossy::Exp => glossy_direction(mirror, p.side, a1, a2, m.drefl, rng),
                 _ => disk_direction(mirror, a1, a2, m.drefl, rng),
