@@ -6,7 +6,7 @@
 
 use super::bvh::split_slot;
 use super::node::{NO_CHILD, WIDTH};
-use super::ray_box::{FAR_SLACK, MISS, RayBox, max_num, min_num};
+use super::ray_box::{FAR_SLACK, MISS, RayBox, clip, max_num, min_num};
 use super::walk::{STACK_SIZE, in_order};
 use super::{Accel, PACKET_MAX, Primitive};
 use crate::geometry::{Hit, Ray};
@@ -58,6 +58,9 @@ impl<P: Primitive> Accel<P> {
             *b = RayBox::new(ray);
         }
         let frustum = Frustum::of(&rb[..n]);
+        let lanes = Lanes::of(&rb[..n], &rb);
+        // The rays 0..n.
+        let all = u64::MAX >> (PACKET_MAX - n);
         // Children are visited in the order their centres lie along the
         // packet's mean direction: near first, for most of its rays.
         let dir: DVec3 = rays[..n].iter().map(|r| r.dir).sum();
@@ -90,14 +93,23 @@ impl<P: Primitive> Accel<P> {
                 if count > 0 {
                     let s = child as usize;
                     let prims = &bvh.prims[s..s + count as usize];
+                    // The rays from the i-th on that enter the leaf's box
+                    // (each ray's test: no leaf call changes another's limit).
+                    let mut entered = match &lanes {
+                        Some(l) => l.entered(&bounds, t),
+                        None => (i..n).fold(0, |m, j| {
+                            m | u64::from(rb[j].entry(&bounds, t[j]) != MISS) << j
+                        }),
+                    } & all
+                        & (u64::MAX << i);
                     // Only a ray that had the farthest limit can lower it.
                     let mut lowered = false;
-                    for j in i..n {
-                        if j == i || rb[j].entry(&bounds, t[j]) != MISS {
-                            let before = t[j];
-                            leaf(j, prims, &mut t[j]);
-                            lowered |= before == t_all && t[j] < before;
-                        }
+                    while entered != 0 {
+                        let j = entered.trailing_zeros() as usize;
+                        entered &= entered - 1;
+                        let before = t[j];
+                        leaf(j, prims, &mut t[j]);
+                        lowered |= before == t_all && t[j] < before;
                     }
                     if lowered && frustum.is_some() {
                         t_all = farthest(t);
@@ -134,6 +146,60 @@ impl<P: Primitive> Accel<P> {
             (bounds, child, count) = (node.bounds(k), node.child[k], node.count[k]);
             first = f as usize;
         }
+    }
+}
+
+/// A packet's rays that share their origin and the sides they enter boxes
+/// by, their inverse directions axis by axis: a box is tested for all of
+/// them in SIMD lanes, lane j's answer [`RayBox::entry`]'s for ray j to the
+/// bit (the same operations in the same order).
+struct Lanes {
+    origin: [f64; 3],
+    near: [usize; 3],
+    inv: [[f64; PACKET_MAX]; 3],
+}
+
+impl Lanes {
+    /// The lanes of the rays prepared in `rb` (`all`: the packet's slots,
+    /// those past `rb` holding placeholders), or `None` when two rays differ
+    /// in origin or sides.
+    fn of(rb: &[RayBox], all: &[RayBox; PACKET_MAX]) -> Option<Lanes> {
+        let first = rb.first()?;
+        let (origin, near) = (first.origin(), first.near());
+        if rb.iter().any(|r| r.origin() != origin || r.near() != near) {
+            return None;
+        }
+        let mut inv = [[0.0; PACKET_MAX]; 3];
+        for (j, r) in all.iter().enumerate() {
+            for (a, v) in r.inv_dir().into_iter().enumerate() {
+                inv[a][j] = v;
+            }
+        }
+        Some(Lanes { origin, near, inv })
+    }
+
+    /// Bit j set when ray j enters box `b` within its limit `t[j]` by
+    /// [`RayBox::entry`].
+    #[inline(always)]
+    fn entered(&self, b: &[f32; 6], t: &[f64; PACKET_MAX]) -> u64 {
+        let mut t0 = [0.0; PACKET_MAX];
+        let mut t1 = *t;
+        for (a, inv) in self.inv.iter().enumerate() {
+            let near = self.near[a] & 3;
+            // (b − o) is each ray's own first operation: the origins are the same.
+            let dn = b[near + a] as f64 - self.origin[a];
+            let df = b[(near ^ 3) + a] as f64 - self.origin[a];
+            for ((t0, t1), &inv) in t0.iter_mut().zip(&mut t1).zip(inv) {
+                *t0 = max_num(dn * inv, *t0);
+                *t1 = min_num(df * inv, *t1);
+            }
+        }
+        t0.iter()
+            .zip(&t1)
+            .enumerate()
+            .fold(0, |m, (j, (&t0, &t1))| {
+                m | u64::from(clip(t0, t1) != MISS) << j
+            })
     }
 }
 
@@ -281,6 +347,79 @@ mod tests {
         }
         // Both outcomes occur often.
         assert!(culled > 5000 && kept > 5000, "{culled} culled, {kept} kept");
+    }
+
+    #[test]
+    fn lanes_answer_as_each_ray_does() {
+        let mut rng = Pcg64::seed_from_u64(13);
+        let (mut entered, mut missed) = (0, 0);
+        for p in 0..2000 {
+            // In f32, so that a box face can pass exactly through it.
+            let origin = (DVec3::new(rng.random(), rng.random(), rng.random()) * 4.0 - 2.0)
+                .as_vec3()
+                .as_dvec3();
+            let signs = [0, 1, 2].map(|_| if rng.random_bool(0.5) { 1.0 } else { -1.0 });
+            let n = rng.random_range(1..=PACKET_MAX);
+            let rays: Vec<Ray> = (0..n)
+                .map(|_| {
+                    let mut d = DVec3::ZERO;
+                    for a in 0..3 {
+                        // Some components zero (+0 only: -0 enters by the
+                        // other side) or subnormal: infinite inverses.
+                        d[a] = match rng.random_range(0..8) {
+                            0 if p % 4 == 0 => 0.0,
+                            1 if p % 4 == 1 => 1e-310,
+                            _ => rng.random_range(1e-3..1.0),
+                        } * signs[a];
+                    }
+                    Ray::new(origin, d)
+                })
+                .collect();
+            let rb: Vec<RayBox> = rays.iter().map(RayBox::new).collect();
+            let mut all = [rb[n - 1]; PACKET_MAX];
+            all[..n].copy_from_slice(&rb);
+            let Some(lanes) = Lanes::of(&rb, &all) else {
+                // Only a zero component's sign can split the sides here.
+                assert!(rays.iter().any(|r| r.dir.to_array().contains(&0.0)));
+                continue;
+            };
+            for _ in 0..10 {
+                // Boxes with a face through the origin, around points, anywhere.
+                let mut c = (DVec3::new(rng.random(), rng.random(), rng.random()) * 6.0 - 3.0)
+                    .as_vec3()
+                    .to_array();
+                let h = [0, 1, 2].map(|_| rng.random_range(0.0f32..1.5));
+                if rng.random_bool(0.3) {
+                    let a = rng.random_range(0..3);
+                    c[a] = origin[a] as f32 + if rng.random_bool(0.5) { h[a] } else { -h[a] };
+                }
+                let b = [
+                    c[0] - h[0],
+                    c[1] - h[1],
+                    c[2] - h[2],
+                    c[0] + h[0],
+                    c[1] + h[1],
+                    c[2] + h[2],
+                ];
+                let t: [f64; PACKET_MAX] = std::array::from_fn(|_| {
+                    if rng.random_bool(0.5) {
+                        f64::INFINITY
+                    } else {
+                        rng.random_range(0.0..6.0)
+                    }
+                });
+                let mask = lanes.entered(&b, &t);
+                for (j, r) in rb.iter().enumerate() {
+                    let hit = r.entry(&b, t[j]) != MISS;
+                    assert_eq!(mask >> j & 1 == 1, hit, "ray {j} of {rays:?}, box {b:?}");
+                    if hit { entered += 1 } else { missed += 1 }
+                }
+            }
+        }
+        assert!(
+            entered > 20_000 && missed > 20_000,
+            "{entered} entered, {missed} missed"
+        );
     }
 
     #[test]

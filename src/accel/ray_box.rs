@@ -40,6 +40,12 @@ impl RayBox {
         self.origin
     }
 
+    /// Per axis: 0 if the ray enters a box at its min, 3 at its max.
+    #[inline]
+    pub(crate) fn near(&self) -> [usize; 3] {
+        self.near
+    }
+
     /// The inverse of the ray's direction, per axis.
     #[inline]
     pub(crate) fn inv_dir(&self) -> [f64; 3] {
@@ -100,7 +106,7 @@ impl RayBox {
 /// The entry distance `t0`, or [`MISS`] when the exit `t1` (with slack)
 /// lies before it.
 #[inline(always)]
-fn clip(t0: f64, t1: f64) -> f64 {
+pub(crate) fn clip(t0: f64, t1: f64) -> f64 {
     if t0 <= t1 * FAR_SLACK { t0 } else { MISS }
 }
 
