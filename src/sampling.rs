@@ -1,4 +1,21 @@
-//! Stratified sampling: grids of strata as close to square as possible.
+//! Stratified sampling: grids of strata as close to square as possible,
+//! and where samplers get their random numbers.
+
+use rand_pcg::Pcg32;
+
+/// Where a sampler gets its random numbers: a generator, or a stream that
+/// is seeded only when first asked. A sampler asks once, before its draws.
+pub(crate) trait RandomSource {
+    /// The generator to draw from.
+    fn generator(&mut self) -> &mut Pcg32;
+}
+
+impl RandomSource for Pcg32 {
+    #[inline(always)]
+    fn generator(&mut self) -> &mut Pcg32 {
+        self
+    }
+}
 
 /// A grid of exactly `n` strata as close to square as possible: (rows, cols).
 pub(crate) fn strata(n: u32) -> (u32, u32) {

@@ -3,8 +3,8 @@
 
 use crate::accel::{Accel, Primitive};
 use crate::geometry::Shape;
+use crate::sampling::RandomSource;
 use crate::scene::Object;
-use rand::RngCore;
 use rand::SeedableRng;
 use rand_pcg::Pcg32;
 
@@ -83,28 +83,31 @@ impl Stream {
     pub fn new(seed: u64) -> Self {
         Stream { seed, rng: None }
     }
+}
 
-    /// The generator, seeded now if nothing was drawn from it yet.
-    #[inline]
-    pub fn get(&mut self) -> &mut Pcg32 {
+impl RandomSource for Stream {
+    /// The generator, seeded now if it was never asked for before.
+    #[inline(always)]
+    fn generator(&mut self) -> &mut Pcg32 {
         let seed = self.seed;
         self.rng.get_or_insert_with(|| Pcg32::seed_from_u64(seed))
     }
 }
 
-impl RngCore for Stream {
-    #[inline]
-    fn next_u32(&mut self) -> u32 {
-        self.get().next_u32()
-    }
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::Rng;
 
-    #[inline]
-    fn next_u64(&mut self) -> u64 {
-        self.get().next_u64()
-    }
-
-    #[inline]
-    fn fill_bytes(&mut self, dst: &mut [u8]) {
-        self.get().fill_bytes(dst)
+    #[test]
+    fn a_stream_draws_as_its_generator_seeded_up_front() {
+        for seed in [0, 1, 0x9e37_79b9_7f4a_7c15, u64::MAX] {
+            let mut eager = Pcg32::seed_from_u64(seed);
+            let mut lazy = Stream::new(seed);
+            // Asked again before every draw: seeded once, never again.
+            let expected: Vec<u64> = (0..40).map(|_| eager.random()).collect();
+            let drawn: Vec<u64> = (0..40).map(|_| lazy.generator().random()).collect();
+            assert_eq!(drawn, expected, "seed {seed}");
+        }
     }
 }

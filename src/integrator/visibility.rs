@@ -3,9 +3,9 @@
 use super::path::SceneAccel;
 use crate::accel::{QueryTally, ShadowReach};
 use crate::geometry::{Ray, offset_origin};
+use crate::sampling::RandomSource;
 use crate::scene::Light;
 use glam::DVec3;
-use rand::Rng;
 
 /// Slots of [`ShadowHints`].
 const HINT_SLOTS: usize = 8;
@@ -48,7 +48,7 @@ pub(crate) struct ShadowRays<'a> {
 pub(crate) fn shade_factor(
     to: &ShadowRays,
     from: &ShadowFrom,
-    rng: &mut impl Rng,
+    rng: &mut impl RandomSource,
     hints: &mut ShadowHints,
     tally: &mut impl QueryTally,
 ) -> (f64, u64) {
@@ -65,7 +65,7 @@ pub(crate) fn shade_factor(
 pub(crate) fn weighted_light(
     to: &ShadowRays,
     from: &ShadowFrom,
-    rng: &mut impl Rng,
+    rng: &mut impl RandomSource,
     hints: &mut ShadowHints,
     tally: &mut impl QueryTally,
     weight: impl FnMut(DVec3, f64) -> f64,

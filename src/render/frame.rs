@@ -7,7 +7,7 @@ use crate::geometry::Ray;
 use crate::integrator::{
     AntiAlias, Integrator, PathObserver, PathState, RayCounts, ShadowHints, Stream, mix,
 };
-use crate::sampling::strata;
+use crate::sampling::{RandomSource, strata};
 use crate::scene::Camera;
 use glam::DVec3;
 use rand_pcg::Pcg32;
@@ -127,7 +127,7 @@ impl<'a> Frame<'a> {
         stratum: (u32, u32),
         strata: (u32, u32),
     ) -> (Ray, PathState) {
-        let draws = self.draw(st.rng.get(), stratum, strata);
+        let draws = self.draw(st.rng.generator(), stratum, strata);
         (self.ray_of(x, y, draws), st)
     }
 
@@ -372,7 +372,7 @@ impl<'a> Frame<'a> {
             for ((a, rng), d) in at.iter_mut().zip(&mut rngs).zip(&mut draws).take(len) {
                 *a = next;
                 *rng = stream(next.key, next.s);
-                *d = self.draw(rng.get(), next.stratum, strata);
+                *d = self.draw(rng.generator(), next.stratum, strata);
                 next.advance(self, &xs, n, strata.1);
             }
             self.packet(

@@ -1,7 +1,7 @@
 //! Lights: their kinds and the geometry of each (where their shadow rays go).
 
 use crate::geometry::{Ray, Sphere, perpendiculars};
-use crate::sampling::strata;
+use crate::sampling::{RandomSource, strata};
 use glam::DVec3;
 use rand::Rng;
 use std::f64::consts::TAU;
@@ -88,7 +88,7 @@ impl Light {
         &self,
         origin: DVec3,
         samples: u32,
-        rng: &mut impl Rng,
+        rng: &mut impl RandomSource,
         mut reaches: impl FnMut(DVec3, f64) -> bool,
     ) -> (f64, u64) {
         match self.kind {
@@ -123,7 +123,7 @@ impl Light {
         &self,
         origin: DVec3,
         samples: u32,
-        rng: &mut impl Rng,
+        rng: &mut impl RandomSource,
         mut reaches: impl FnMut(DVec3, f64) -> bool,
         mut weight: impl FnMut(DVec3, f64) -> f64,
     ) -> (f64, u64) {
@@ -154,7 +154,7 @@ impl Light {
         &self,
         origin: DVec3,
         samples: u32,
-        rng: &mut impl Rng,
+        rng: &mut impl RandomSource,
         mut each: impl FnMut(DVec3, f64),
     ) -> u32 {
         match self.kind {
@@ -164,6 +164,7 @@ impl Light {
                 1
             }
             LightKind::Square { center, dx, dy } => {
+                let rng = rng.generator();
                 let (rows, cols) = strata(samples);
                 let (cell_a, cell_b) = (2.0 / cols as f64, 2.0 / rows as f64);
                 in_batches(rows, cols, &mut each, |r, c| {
@@ -184,6 +185,7 @@ impl Light {
                 let (u_axis, v_axis) = perpendiculars(w);
                 let sphere = Sphere::new(center, radius);
                 let tangent = (d2 - radius * radius).max(0.0).sqrt();
+                let rng = rng.generator();
                 let (rows, cols) = strata(samples);
                 in_batches(rows, cols, &mut each, |r, c| {
                     // Uniform in solid angle over the cone: cos θ uniform in [cos_max, 1].

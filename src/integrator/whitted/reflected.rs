@@ -7,6 +7,7 @@ use crate::geometry::{Ray, offset_origin, perpendiculars};
 use crate::integrator::model::Glossy;
 use crate::integrator::observer::{PathObserver, RayKind};
 use crate::integrator::optics::{disk_direction, glossy_direction, reflect};
+use crate::sampling::RandomSource;
 use glam::DVec3;
 
 /// Glossy reflections are averaged over many rays up to this depth, one ray
@@ -76,7 +77,7 @@ impl Whitted<'_> {
         };
         let mut sum = DVec3::ZERO;
         for k in 0..samples {
-            let rng = fan.st.rng.get();
+            let rng = fan.st.rng.generator();
             let dir = match model.glossy {
                 Glossy::Exp => glossy_direction(mirror, p.side, a1, a2, m.drefl, rng),
                 _ => disk_direction(mirror, a1, a2, m.drefl, rng),
