@@ -6,7 +6,7 @@
 
 use super::bvh::split_slot;
 use super::node::{NO_CHILD, WIDTH};
-use super::ray_box::{FAR_SLACK, MISS, RayBox, clip, max_num, min_num};
+use super::ray_box::{FAR_SLACK, MISS, RayBox, clip, fold_slab, max_num, min_num};
 use super::walk::{STACK_SIZE, in_order};
 use super::{Accel, PACKET_MAX, Primitive};
 use crate::geometry::{Hit, Ray};
@@ -96,12 +96,11 @@ impl<P: Primitive> Accel<P> {
                     // The rays from the i-th on that enter the leaf's box
                     // (each ray's test: no leaf call changes another's limit).
                     let mut entered = match &lanes {
-                        Some(l) => l.entered(&bounds, t),
+                        Some(l) => l.entered(&bounds, t) & all & (u64::MAX << i),
                         None => (i..n).fold(0, |m, j| {
                             m | u64::from(rb[j].entry(&bounds, t[j]) != MISS) << j
                         }),
-                    } & all
-                        & (u64::MAX << i);
+                    };
                     // Only a ray that had the farthest limit can lower it.
                     let mut lowered = false;
                     while entered != 0 {
@@ -160,17 +159,17 @@ struct Lanes {
 }
 
 impl Lanes {
-    /// The lanes of the rays prepared in `rb` (`all`: the packet's slots,
+    /// The lanes of the rays prepared in `rb` (`slots`: the packet's slots,
     /// those past `rb` holding placeholders), or `None` when two rays differ
     /// in origin or sides.
-    fn of(rb: &[RayBox], all: &[RayBox; PACKET_MAX]) -> Option<Lanes> {
+    fn of(rb: &[RayBox], slots: &[RayBox; PACKET_MAX]) -> Option<Lanes> {
         let first = rb.first()?;
         let (origin, near) = (first.origin(), first.near());
         if rb.iter().any(|r| r.origin() != origin || r.near() != near) {
             return None;
         }
         let mut inv = [[0.0; PACKET_MAX]; 3];
-        for (j, r) in all.iter().enumerate() {
+        for (j, r) in slots.iter().enumerate() {
             for (a, v) in r.inv_dir().into_iter().enumerate() {
                 inv[a][j] = v;
             }
@@ -186,12 +185,13 @@ impl Lanes {
         let mut t1 = *t;
         for (a, inv) in self.inv.iter().enumerate() {
             let near = self.near[a] & 3;
-            // (b − o) is each ray's own first operation: the origins are the same.
+            // (b − o) is each ray's own first operation: the origins are
+            // equal (+0 and −0 may differ, in the sign of a zero offset,
+            // which no comparison below can see).
             let dn = b[near + a] as f64 - self.origin[a];
             let df = b[(near ^ 3) + a] as f64 - self.origin[a];
             for ((t0, t1), &inv) in t0.iter_mut().zip(&mut t1).zip(inv) {
-                *t0 = max_num(dn * inv, *t0);
-                *t1 = min_num(df * inv, *t1);
+                fold_slab(dn, df, inv, t0, t1);
             }
         }
         t0.iter()
@@ -360,12 +360,12 @@ mod tests {
                 .as_dvec3();
             let signs = [0, 1, 2].map(|_| if rng.random_bool(0.5) { 1.0 } else { -1.0 });
             let n = rng.random_range(1..=PACKET_MAX);
-            let rays: Vec<Ray> = (0..n)
+            let mut rays: Vec<Ray> = (0..n)
                 .map(|_| {
                     let mut d = DVec3::ZERO;
                     for a in 0..3 {
-                        // Some components zero (+0 only: -0 enters by the
-                        // other side) or subnormal: infinite inverses.
+                        // Some components zero (±0, on the packet's side)
+                        // or subnormal: infinite inverses.
                         d[a] = match rng.random_range(0..8) {
                             0 if p % 4 == 0 => 0.0,
                             1 if p % 4 == 1 => 1e-310,
@@ -375,14 +375,22 @@ mod tests {
                     Ray::new(origin, d)
                 })
                 .collect();
+            // Some packets have a ray on the other side of an axis, or
+            // from another origin: no lanes for them.
+            let (split, moved) = (p % 8 == 6, p % 8 == 7);
+            if split {
+                rays[n - 1].dir.x = -signs[0] * 0.5;
+            }
+            if moved {
+                rays[n - 1].origin.y += 1e-3;
+            }
             let rb: Vec<RayBox> = rays.iter().map(RayBox::new).collect();
-            let mut all = [rb[n - 1]; PACKET_MAX];
-            all[..n].copy_from_slice(&rb);
-            let Some(lanes) = Lanes::of(&rb, &all) else {
-                // Only a zero component's sign can split the sides here.
-                assert!(rays.iter().any(|r| r.dir.to_array().contains(&0.0)));
-                continue;
-            };
+            let mut slots = [rb[n - 1]; PACKET_MAX];
+            slots[..n].copy_from_slice(&rb);
+            let lanes = Lanes::of(&rb, &slots);
+            let apart = (split || moved) && n > 1;
+            assert_eq!(lanes.is_none(), apart, "{rays:?}");
+            let Some(lanes) = lanes else { continue };
             for _ in 0..10 {
                 // Boxes with a face through the origin, around points, anywhere.
                 let mut c = (DVec3::new(rng.random(), rng.random(), rng.random()) * 6.0 - 3.0)

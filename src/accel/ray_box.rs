@@ -97,10 +97,20 @@ impl RayBox {
     /// the exit `t1` found so far.
     #[inline(always)]
     fn slab(&self, a: usize, near: f32, far: f32, t0: &mut f64, t1: &mut f64) {
-        let (o, inv) = (self.origin[a], self.inv_dir[a]);
-        *t0 = max_num((near as f64 - o) * inv, *t0);
-        *t1 = min_num((far as f64 - o) * inv, *t1);
+        let o = self.origin[a];
+        fold_slab(near as f64 - o, far as f64 - o, self.inv_dir[a], t0, t1);
     }
+}
+
+/// One axis of a ray's slab test from its planes' offsets from the origin,
+/// `dn` = near − o and `df` = far − o: the crossings dn·inv and df·inv
+/// folded into the entry `t0` and the exit `t1` found so far. A ray's
+/// tests of one box, of a node's boxes and of a packet's lanes all fold
+/// through here, so their answers agree to the bit.
+#[inline(always)]
+pub(crate) fn fold_slab(dn: f64, df: f64, inv: f64, t0: &mut f64, t1: &mut f64) {
+    *t0 = max_num(dn * inv, *t0);
+    *t1 = min_num(df * inv, *t1);
 }
 
 /// The entry distance `t0`, or [`MISS`] when the exit `t1` (with slack)

@@ -287,3 +287,39 @@ fn in_batches(
     }
     rows * cols
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn batches_make_and_hand_on_every_cell_row_by_row() {
+        for rows in 1..=6 {
+            for cols in 1..=39 {
+                // A cell is told by its sample: direction (r, c, k), k the
+                // k-th call of `make`; `each` must see them in grid order.
+                let mut made = 0.0;
+                let mut seen = Vec::new();
+                let n = in_batches(
+                    rows,
+                    cols,
+                    &mut |d: DVec3, dist: f64| seen.push((d, dist)),
+                    |r, c| {
+                        made += 1.0;
+                        (DVec3::new(f64::from(r), f64::from(c), made), made)
+                    },
+                );
+                assert_eq!(n, rows * cols);
+                let expected: Vec<(DVec3, f64)> = (0..rows)
+                    .flat_map(|r| (0..cols).map(move |c| (r, c)))
+                    .enumerate()
+                    .map(|(k, (r, c))| {
+                        let k = (k + 1) as f64;
+                        (DVec3::new(f64::from(r), f64::from(c), k), k)
+                    })
+                    .collect();
+                assert_eq!(seen, expected, "{rows}×{cols}");
+            }
+        }
+    }
+}
