@@ -281,6 +281,18 @@ mod tests {
     use rand::{Rng, SeedableRng};
     use rand_pcg::Pcg64;
 
+    /// The box of centre `c` and half-extents `h`.
+    fn box_around(c: [f32; 3], h: [f32; 3]) -> [f32; 6] {
+        [
+            c[0] - h[0],
+            c[1] - h[1],
+            c[2] - h[2],
+            c[0] + h[0],
+            c[1] + h[1],
+            c[2] + h[2],
+        ]
+    }
+
     #[test]
     fn frustum_never_culls_a_box_a_ray_enters() {
         let mut rng = Pcg64::seed_from_u64(9);
@@ -323,14 +335,7 @@ mod tests {
                 };
                 let c = at.as_vec3().to_array();
                 let h = [0, 1, 2].map(|_| rng.random_range(0.0f32..0.5));
-                let b = [
-                    c[0] - h[0],
-                    c[1] - h[1],
-                    c[2] - h[2],
-                    c[0] + h[0],
-                    c[1] + h[1],
-                    c[2] + h[2],
-                ];
+                let b = box_around(c, h);
                 let t_far = if rng.random_bool(0.5) {
                     f64::INFINITY
                 } else {
@@ -401,14 +406,7 @@ mod tests {
                     let a = rng.random_range(0..3);
                     c[a] = origin[a] as f32 + if rng.random_bool(0.5) { h[a] } else { -h[a] };
                 }
-                let b = [
-                    c[0] - h[0],
-                    c[1] - h[1],
-                    c[2] - h[2],
-                    c[0] + h[0],
-                    c[1] + h[1],
-                    c[2] + h[2],
-                ];
+                let b = box_around(c, h);
                 let t: [f64; PACKET_MAX] = std::array::from_fn(|_| {
                     if rng.random_bool(0.5) {
                         f64::INFINITY
