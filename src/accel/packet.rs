@@ -87,7 +87,16 @@ impl<P: Primitive> Accel<P> {
                 }
                 // Rays before the first that enters this box miss all of its
                 // descendants too: their boxes lie inside it, and limits only fall.
-                let Some(i) = (first..n).find(|&j| rb[j].entry(&bounds, t[j]) != MISS) else {
+                // The first ray mostly enters; past it, the lanes test the rest at once.
+                let found = if rb[first].entry(&bounds, t[first]) != MISS {
+                    Some(first)
+                } else if let Some(l) = &lanes {
+                    let m = l.entered(&bounds, t) & all & (u64::MAX << first << 1);
+                    (m != 0).then(|| m.trailing_zeros() as usize)
+                } else {
+                    (first + 1..n).find(|&j| rb[j].entry(&bounds, t[j]) != MISS)
+                };
+                let Some(i) = found else {
                     break 'visit;
                 };
                 if count > 0 {
