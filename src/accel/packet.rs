@@ -59,8 +59,6 @@ impl<P: Primitive> Accel<P> {
         }
         let frustum = Frustum::of(&rb[..n]);
         let lanes = Lanes::of(&rb[..n], &rb);
-        // The rays 0..n.
-        let all = u64::MAX >> (PACKET_MAX - n);
         // Children are visited in the order their centres lie along the
         // packet's mean direction: near first, for most of its rays.
         let dir: DVec3 = rays[..n].iter().map(|r| r.dir).sum();
@@ -87,29 +85,11 @@ impl<P: Primitive> Accel<P> {
                 }
                 // Rays before the first that enters this box miss all of its
                 // descendants too: their boxes lie inside it, and limits only fall.
-                // The first ray mostly enters; past it, the lanes test the rest at once.
-                let found = if rb[first].entry(&bounds, t[first]) != MISS {
-                    Some(first)
-                } else if let Some(l) = &lanes {
-                    let m = l.entered(&bounds, t) & all & (u64::MAX << first << 1);
-                    (m != 0).then(|| m.trailing_zeros() as usize)
-                } else {
-                    (first + 1..n).find(|&j| rb[j].entry(&bounds, t[j]) != MISS)
-                };
-                let Some(i) = found else {
-                    break 'visit;
-                };
                 if count > 0 {
                     let s = child as usize;
                     let prims = &bvh.prims[s..s + count as usize];
-                    // The rays from the i-th on that enter the leaf's box
-                    // (each ray's test: no leaf call changes another's limit).
-                    let mut entered = match &lanes {
-                        Some(l) => l.entered(&bounds, t) & all & (u64::MAX << i),
-                        None => (i..n).fold(0, |m, j| {
-                            m | u64::from(rb[j].entry(&bounds, t[j]) != MISS) << j
-                        }),
-                    };
+                    // Each ray's own test: no leaf call changes another's limit.
+                    let mut entered = entering(lanes.as_ref(), &rb[..n], &bounds, t, first);
                     // Only a ray that had the farthest limit can lower it.
                     let mut lowered = false;
                     while entered != 0 {
@@ -124,6 +104,16 @@ impl<P: Primitive> Accel<P> {
                     }
                     break 'visit;
                 }
+                // The first ray that enters the node: mostly the first
+                // candidate; past it, the rest at once.
+                let i = if rb[first].entry(&bounds, t[first]) != MISS {
+                    first
+                } else {
+                    match entering(lanes.as_ref(), &rb[..n], &bounds, t, first) {
+                        0 => break 'visit,
+                        m => m.trailing_zeros() as usize,
+                    }
+                };
                 // The children, nearest first: push the others farthest
                 // first, go to the nearest.
                 let w = child as usize;
@@ -154,6 +144,23 @@ impl<P: Primitive> Accel<P> {
             (bounds, child, count) = (node.bounds(k), node.child[k], node.count[k]);
             first = f as usize;
         }
+    }
+}
+
+/// The rays of `rb` from the `from`-th on that enter box `b` within their
+/// limits `t`, a bit each: by `lanes` where the rays have them, else one by
+/// one (inlined into the instruction set's dispatch, as the whole walk).
+#[inline(always)]
+fn entering(
+    lanes: Option<&Lanes>,
+    rb: &[RayBox],
+    b: &[f32; 6],
+    t: &[f64; PACKET_MAX],
+    from: usize,
+) -> u64 {
+    match lanes {
+        Some(l) => l.entered(b, t) & (u64::MAX >> (PACKET_MAX - rb.len())) & (u64::MAX << from),
+        None => (from..rb.len()).fold(0, |m, j| m | u64::from(rb[j].entry(b, t[j]) != MISS) << j),
     }
 }
 

@@ -81,13 +81,6 @@ impl Evidence {
         }
         let kind = kind.unwrap_or("");
         let primitive = matches!(head, "primitive" | "object" | "obj");
-        // Looked for in a bezier's keys only.
-        let lazycal = || ["control_points", "Dz", "S"].into_iter().find(|k| has(k));
-        let abcbdf = || {
-            ["center", "V0", "V1", "V2", "V3"]
-                .into_iter()
-                .find(|k| has(k))
-        };
         match (head, kind) {
             ("camera", _) => {
                 if has("Dx") {
@@ -111,23 +104,27 @@ impl Evidence {
             (_, "Bezier" | "NomalBall" | "NomalPlane") if primitive => {
                 self.v_mark(line, format!("primitive {kind}"));
             }
-            (_, "bezier") if primitive && lazycal().is_some() => {
-                let key = lazycal().unwrap_or_default();
-                self.l17_marker
-                    .get_or_insert((line, format!("a bezier's `{key}=`")));
-            }
-            (_, "bezier") if primitive && abcbdf().is_some() => {
-                let key = abcbdf().unwrap_or_default();
-                self.a18_mark(line, format!("a bezier's `{key}=`"));
+            (_, "bezier") if primitive => {
+                // lazycal's marker keys, then abcbdf's.
+                let lazycal = ["control_points", "Dz", "S"].into_iter().find(|k| has(k));
+                let abcbdf = ["center", "V0", "V1", "V2", "V3"];
+                if let Some(key) = lazycal {
+                    self.l17_marker
+                        .get_or_insert((line, format!("a bezier's `{key}=`")));
+                } else if let Some(key) = abcbdf.into_iter().find(|k| has(k)) {
+                    self.a18_mark(line, format!("a bezier's `{key}=`"));
+                } else if !has("newPoint") {
+                    // Z17's tensor-product bezier (`newPoint=`) is not the framework's.
+                    self.f_mark(line, format!("primitive {kind}"));
+                }
             }
             (_, "triangle") if primitive && has("A0") => {
                 self.a18_mark(line, "a triangle's `A0=`".to_string());
             }
             (_, "tetra") if primitive => self.a18_mark(line, format!("{head} tetra")),
-            // Z17's triangle and tensor-product bezier are not the framework's.
+            // Z17's triangle is not the framework's.
             (_, "triangle") if primitive && has("P0") => {}
-            (_, "bezier") if primitive && has("newPoint") => {}
-            (_, "square" | "cylinder" | "bezier" | "triangle" | "mesh" | "cube") if primitive => {
+            (_, "square" | "cylinder" | "triangle" | "mesh" | "cube") if primitive => {
                 self.f_mark(line, format!("primitive {kind}"));
             }
             _ => {}

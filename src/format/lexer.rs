@@ -171,7 +171,6 @@ fn ascii_line<'a>(
     // The text from the line's start: words are taken from it.
     let rest = &text[start..];
     let r = rest.as_bytes();
-    // Where the line that holds byte `from` of `rest` ends.
     // Byte start (in the line, and so column − 1) of the word being read.
     let mut current: Option<usize> = None;
     let word = |start: Option<usize>| start.map(|s| (s, s + 1));
