@@ -83,6 +83,11 @@ impl Cylinder {
                 Span::new(t2, t1, CAP2, CAP1)
             }
         };
+        // The side only narrows the caps' span: wholly before t_min or
+        // past t_max, it holds no hit (and the side's roots are not needed).
+        if span.before(t_min) || span.beyond(t_max) {
+            return None;
+        }
         // Side: |s⊥ + t·d⊥|² = R², solved in the form of Sphere::roots that
         // stays exact for rays far from or nearly along the axis.
         let r2 = self.radius * self.radius;

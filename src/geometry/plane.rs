@@ -38,7 +38,11 @@ impl Plane {
         if denom == 0.0 {
             return None;
         }
-        let t = (self.offset - self.normal.dot(ray.origin)) / denom;
+        let num = self.offset - self.normal.dot(ray.origin);
+        if t_min >= 0.0 && !ahead(num, denom) {
+            return None;
+        }
+        let t = num / denom;
         (t > t_min && t < t_max).then(|| Hit::at(t))
     }
 
@@ -62,6 +66,16 @@ impl Plane {
             p.dot(self.dy) / self.dy.length_squared(),
         ) + self.uv_shift
     }
+}
+
+/// Whether `num / denom` can be above 0: only when both are non-zero
+/// and of one sign (a zero or NaN, or signs apart, give 0, NaN or a
+/// negative). So a hit past `t_min ≥ 0` needs it, and a ray leaving the
+/// plane behind it (most shadow rays above a floor) is told so without
+/// the division.
+#[inline(always)]
+pub(crate) fn ahead(num: f64, denom: f64) -> bool {
+    (num > 0.0 && denom > 0.0) || (num < 0.0 && denom < 0.0)
 }
 
 #[cfg(test)]

@@ -1,5 +1,6 @@
 //! Parallelograms: `primitive square` (`O= Dx= Dy=`, half-edge vectors) and square lights.
 
+use super::plane::ahead;
 use super::{Aabb, Hit, Ray, SurfacePoint};
 use glam::{DVec2, DVec3};
 
@@ -48,8 +49,12 @@ impl Square {
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
         let s = self.center - ray.origin;
+        let (num, denom) = (s.dot(self.normal), self.normal.dot(ray.dir));
+        if t_min >= 0.0 && !ahead(num, denom) {
+            return None;
+        }
         // A ray parallel to the plane gives ±∞ or NaN here, which the range test rejects.
-        let t = s.dot(self.normal) / self.normal.dot(ray.dir);
+        let t = num / denom;
         if !(t > t_min && t < t_max) {
             return None;
         }

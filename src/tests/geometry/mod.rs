@@ -1,6 +1,6 @@
-//! Exact square, cube, cylinder and triangle intersection and closed
-//! meshes, one file per shape, checked against closed forms and independent
-//! references: Cramer's-rule plane solves for flat shapes, and for the
+//! Exact plane, square, cube, cylinder and triangle intersection and
+//! closed meshes, one file per shape, checked against closed forms and
+//! independent references: Cramer's-rule plane solves for flat shapes, and for the
 //! solids a root search on their convex implicit functions ([`convex`]).
 //! The helpers below are shared by the shapes' files (and the OBJ reader's
 //! tests); the closed boxes the square and cube suites shoot at are in [`boxes`].
@@ -10,6 +10,7 @@ mod convex;
 mod cube;
 mod cylinder;
 mod mesh;
+mod plane;
 mod solid_edges;
 mod square;
 mod triangle;

@@ -272,20 +272,21 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(4000))]
 
     /// Squares against their decomposition into two triangles, each solved by
-    /// Cramer's rule; rays within 1e-7 of the outline are not compared (the
+    /// Cramer's rule, rays toward them and away; rays within 1e-7 of the outline are not compared (the
     /// square is deliberately closed with a 1e-9 slack there).
     #[test]
     fn square_matches_two_triangle_reference(
         c in vec3(5.0), dx in vec3(3.0), dy in vec3(3.0),
         o in vec3(10.0), a in -1.3..1.3f64, b in -1.3..1.3f64, lift in -0.1..0.1f64,
-        window in 0usize..3,
+        window in 0usize..3, away in any::<bool>(),
     ) {
         let n = dx.cross(dy);
         prop_assume!(n.length() > 0.05 * dx.length() * dy.length() && dx.length() > 0.1 && dy.length() > 0.1);
         let sq = Square::new(c, dx, dy);
         let target = c + dx * a + dy * b + n.normalize() * lift;
         prop_assume!((target - o).length() > 1e-3);
-        let r = ray(o, target - o);
+        // Half the rays turn their back on the square: never a hit.
+        let r = ray(o, if away { o - target } else { target - o });
         let (t_lo, t_hi) = [(0.0, INF), (0.0, (target - o).length() * 0.5), (1.0, 30.0)][window];
         let got = sq.intersect(&r, t_lo, t_hi);
 
