@@ -118,12 +118,11 @@ impl<'p> Builder<'p> {
         diags: &mut Diags,
     ) {
         let mut fields = std::mem::take(&mut self.spare);
-        fields.list.clear();
-        fields.failed.clear();
+        fields.clear();
         for e in entries {
             match kind.lookup(e.key) {
                 Some((name, k)) => match parse_entry(e, values, name, k, diags) {
-                    Some(f) => fields.list.push(f),
+                    Some(f) => fields.push(f),
                     None => fields.failed.push(name),
                 },
                 None if is_known_key(e.key) => diags.warn(
@@ -152,7 +151,7 @@ impl<'p> Builder<'p> {
         }
         match kind.title {
             "camera" => fields
-                .list
+                .list()
                 .iter()
                 .for_each(|f| self.evidence.camera_key(f.name)),
             "primitive sphere" => {
@@ -188,7 +187,7 @@ impl<'p> Builder<'p> {
                 second_block(self.cameras, "camera", &mut b);
                 let cam = build(self.scene.camera().clone(), &mut b);
                 self.scene.set_camera(cam);
-                for f in &b.fields.list {
+                for f in b.fields.list() {
                     self.scene.set_camera_key_line(f.name, header_line(f.site));
                 }
             }

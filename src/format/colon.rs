@@ -80,7 +80,7 @@ pub(crate) fn camera(mut cam: Camera, b: &mut BlockKeys<'_>) -> Camera {
     let mut focal = cam.dof.focal_len;
     // What `w:` saw.
     let mut view: Option<View> = None;
-    for f in &b.fields.list {
+    for f in b.fields.list() {
         match (f.name, &f.value) {
             ("eye", Value::V3(v)) => eye = *v,
             ("lookat", Value::V3(v)) => {
@@ -338,7 +338,7 @@ pub(crate) fn rotation_body(
     let mut ratios: Vec<f64> = Vec::new();
     let mut ang = 0.0;
     let mut unscaled: Option<Site> = None;
-    for f in &b.fields.list {
+    for f in b.fields.list() {
         match (f.name, &f.value) {
             ("scale", Value::Num(x)) => scale = Some(*x),
             ("ang", Value::Num(x)) => ang = x.to_radians(),

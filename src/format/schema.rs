@@ -471,11 +471,14 @@ impl Row {
 
 /// Whether some block kind uses `key`.
 pub(crate) fn is_known_key(key: &str) -> bool {
+    all_kinds().any(|r| r.lookup(key).is_some())
+}
+
+/// Every block kind, of both families.
+pub(crate) fn all_kinds() -> impl Iterator<Item = BlockKind> {
     let rows = [&BACKGROUND, &CAMERA, &COLON_BACKGROUND, &COLON_CAMERA].into_iter();
-    let mut all = rows
-        .chain(&LIGHTS)
+    rows.chain(&LIGHTS)
         .chain(&PRIMITIVES)
         .chain(&COLON_LIGHTS)
-        .chain(&COLON_PRIMITIVES);
-    all.any(|r| r.lookup(key).is_some())
+        .chain(&COLON_PRIMITIVES)
 }

@@ -28,7 +28,7 @@ pub(crate) const MAX_QUALITY: u32 = 1024;
 /// `background`: `color=`, or a gradient `top=` / `bottom=`, over `bg`
 /// (a second block's keys override the first's).
 pub(crate) fn background(mut bg: Background, b: &mut BlockKeys<'_>) -> Background {
-    for f in &b.fields.list {
+    for f in b.fields.list() {
         let Value::V3(c) = f.value else { continue };
         bg = match (f.name, bg) {
             ("color", _) => Background::Color(c),

@@ -251,7 +251,7 @@ pub(crate) fn bezier(_: &mut Assets, b: &mut BlockKeys<'_>, _: &mut AddTexture<'
     }
     let axis = b.axis();
     let mut points: Vec<(DVec2, Site)> = Vec::new();
-    for f in &b.fields.list {
+    for f in b.fields.list() {
         match f.value {
             Value::V2(p) if f.name == "P" => points.push((p, f.site)),
             Value::V3(p) if f.name == "P" => {

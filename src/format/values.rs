@@ -104,14 +104,49 @@ pub(crate) struct Field {
 #[derive(Default)]
 pub(crate) struct Fields {
     /// In file order.
-    pub list: Vec<Field>,
+    list: Vec<Field>,
     /// Keys that were present but whose values were wrong (already reported).
     pub failed: Vec<&'static str>,
+    /// The [`key_bit`]s of the names in `list`: most lookups are of keys
+    /// the block does not have, answered without comparing names.
+    held: u64,
+}
+
+/// A bit for key `name`, from its length and end bytes: distinct for the
+/// keys one block usually holds (a shared bit only costs a search).
+#[inline(always)]
+fn key_bit(name: &str) -> u64 {
+    let b = name.as_bytes();
+    let (first, last) = (b.first().copied(), b.last().copied());
+    let h = 5 * b.len() + 3 * usize::from(first.unwrap_or(0)) + usize::from(last.unwrap_or(0));
+    1 << (h % 64)
 }
 
 impl Fields {
+    /// Empties both lists.
+    pub fn clear(&mut self) {
+        self.list.clear();
+        self.failed.clear();
+        self.held = 0;
+    }
+
+    /// Adds a parsed key (after those before it: a later one overrides).
+    pub fn push(&mut self, f: Field) {
+        self.held |= key_bit(f.name);
+        self.list.push(f);
+    }
+
+    /// The parsed keys, in file order.
+    pub fn list(&self) -> &[Field] {
+        &self.list
+    }
+
     /// The last (overriding) occurrence of `name`.
+    #[inline]
     pub fn get(&self, name: &str) -> Option<&Field> {
+        if self.held & key_bit(name) == 0 {
+            return None;
+        }
         self.list.iter().rev().find(|f| f.name == name)
     }
 
@@ -508,6 +543,42 @@ pub(crate) fn parallel(a: DVec3, b: DVec3) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rand::{Rng, SeedableRng};
+
+    #[test]
+    fn a_lookup_finds_what_a_search_of_every_key_finds() {
+        // Every key of every block kind, and names no block has.
+        let mut names: Vec<&'static str> = super::super::schema::all_kinds()
+            .flat_map(|k| k.key_names())
+            .collect();
+        names.extend(["", "x", "é", "colour", "Dz", "O4"]);
+        names.sort_unstable();
+        names.dedup();
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(7);
+        let mut fields = Fields::default();
+        for _ in 0..3000 {
+            fields.clear();
+            for _ in 0..rng.random_range(0..9) {
+                let name = names[rng.random_range(0..names.len())];
+                let value = Value::Num(rng.random());
+                let site = Site {
+                    line: 0,
+                    col: 1,
+                    len: 1,
+                };
+                fields.push(Field { name, value, site });
+            }
+            for &name in &names {
+                let searched = fields.list().iter().rev().find(|f| f.name == name);
+                assert_eq!(
+                    fields.get(name).map(|f| (f.name, &f.value)),
+                    searched.map(|f| (f.name, &f.value)),
+                    "{name:?} in {:?}",
+                    fields.list().iter().map(|f| f.name).collect::<Vec<_>>()
+                );
+            }
+        }
+    }
 
     #[test]
     fn numbers() {
