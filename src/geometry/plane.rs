@@ -39,7 +39,7 @@ impl Plane {
             return None;
         }
         let num = self.offset - self.normal.dot(ray.origin);
-        if t_min >= 0.0 && !ahead(num, denom) {
+        if t_min >= 0.0 && behind(num, denom) {
             return None;
         }
         let t = num / denom;
@@ -68,14 +68,13 @@ impl Plane {
     }
 }
 
-/// Whether `num / denom` can be above 0: only when both are non-zero
-/// and of one sign (a zero or NaN, or signs apart, give 0, NaN or a
-/// negative). So a hit past `t_min ≥ 0` needs it, and a ray leaving the
-/// plane behind it (most shadow rays above a floor) is told so without
-/// the division.
+/// Whether `num / denom` has its sign bit set (a negative, −0 or a NaN):
+/// then no hit lies past a `t_min` ≥ 0, and a ray leaving the plane
+/// behind it (most shadow rays above a floor) is told so without the
+/// division.
 #[inline(always)]
-pub(crate) fn ahead(num: f64, denom: f64) -> bool {
-    (num > 0.0 && denom > 0.0) || (num < 0.0 && denom < 0.0)
+pub(crate) fn behind(num: f64, denom: f64) -> bool {
+    (num.to_bits() ^ denom.to_bits()) >> 63 == 1
 }
 
 #[cfg(test)]

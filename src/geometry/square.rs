@@ -1,6 +1,6 @@
 //! Parallelograms: `primitive square` (`O= Dx= Dy=`, half-edge vectors) and square lights.
 
-use super::plane::ahead;
+use super::plane::behind;
 use super::{Aabb, Hit, Ray, SurfacePoint};
 use glam::{DVec2, DVec3};
 
@@ -50,7 +50,7 @@ impl Square {
     pub fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
         let s = self.center - ray.origin;
         let (num, denom) = (s.dot(self.normal), self.normal.dot(ray.dir));
-        if t_min >= 0.0 && !ahead(num, denom) {
+        if t_min >= 0.0 && behind(num, denom) {
             return None;
         }
         // A ray parallel to the plane gives ±∞ or NaN here, which the range test rejects.
