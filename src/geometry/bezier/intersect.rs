@@ -29,12 +29,13 @@ impl Bezier {
         // Culling is done in local t with some slack; hits are checked exactly.
         let slack = 1e-9 * (pieces.scale() + t0.abs());
         let lo = t_min - t0 - slack;
+        pieces.shell().entry(&ar, lo, t_max - t0 + slack)?;
         let mut best_t = t_max;
         let mut best_s = f64::NAN;
         let mut order = [(0.0f64, 0u16); SORTED];
         let mut sorted = 0;
         for (i, pc) in pieces.list().iter().enumerate() {
-            let Some(entry) = pc.entry(&ar, lo, best_t - t0 + slack) else {
+            let Some(entry) = pc.shell.entry(&ar, lo, best_t - t0 + slack) else {
                 continue;
             };
             if sorted < SORTED {

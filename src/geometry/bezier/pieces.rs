@@ -16,12 +16,19 @@ pub struct Piece {
     /// Where the piece starts and ends on the curve.
     s0: f64,
     s1: f64,
+    /// Its bounding shell.
+    pub shell: Shell,
+    /// Whether z grows with s on the piece (t then grows with s when da > 0).
+    pub z_up: bool,
+}
+
+/// The solid between two heights and two distances from the axis (squared).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Shell {
     z_lo: f64,
     z_hi: f64,
     rho_lo2: f64,
     rho_hi2: f64,
-    /// Whether z grows with s on the piece (t then grows with s when da > 0).
-    pub z_up: bool,
 }
 
 /// The pieces of a profile of one degree, and their coefficients (none,
@@ -33,6 +40,8 @@ pub struct Pieces {
     /// Size of the profile (for tolerances).
     scale: f64,
     list: Vec<Piece>,
+    /// A shell around all the pieces' shells (unused at degree 0).
+    shell: Shell,
     /// Per piece: z (n+1), r (n+1) and r² (2n+1) coefficients, back to back.
     coefs: Vec<f64>,
 }
@@ -90,6 +99,7 @@ impl Pieces {
             degree: n,
             scale,
             list: Vec::new(),
+            shell: Shell::default(),
             coefs: Vec::new(),
         };
         let pad = 1e-9 * scale;
@@ -117,16 +127,19 @@ impl Pieces {
             pieces.list.push(Piece {
                 s0,
                 s1,
-                z_lo: z_lo - pad,
-                z_hi: z_hi + pad,
-                rho_lo2: (rho_lo - pad).max(0.0).powi(2),
-                rho_hi2: (rho_hi + pad).powi(2),
+                shell: Shell {
+                    z_lo: z_lo - pad,
+                    z_hi: z_hi + pad,
+                    rho_lo2: (rho_lo - pad).max(0.0).powi(2),
+                    rho_hi2: (rho_hi + pad).powi(2),
+                },
                 z_up: zp[n] >= zp[0],
             });
             pieces.coefs.extend_from_slice(&zp[..=n]);
             pieces.coefs.extend_from_slice(&rp[..=n]);
             pieces.coefs.extend_from_slice(&rr[..=2 * n]);
         }
+        pieces.shell = around(pieces.list.iter().map(|p| &p.shell), scale);
         pieces
     }
 
@@ -140,6 +153,13 @@ impl Pieces {
     #[inline]
     pub fn scale(&self) -> f64 {
         self.scale
+    }
+
+    /// A shell around every piece's: a ray it turns away enters none
+    /// (see [`around`]).
+    #[inline]
+    pub fn shell(&self) -> &Shell {
+        &self.shell
     }
 
     /// The pieces in curve order.
@@ -160,7 +180,7 @@ impl Pieces {
     }
 }
 
-impl Piece {
+impl Shell {
     /// Where `ray` (local t) enters the shell within (lo, hi), or `None` if
     /// it cannot meet it there.
     #[inline]
@@ -189,10 +209,109 @@ impl Piece {
         }
         Some(ta)
     }
+}
 
+/// A shell holding every shell of `shells` (at least one), widened by
+/// 1e-6 of `scale`² (the profile's size) on the axis distances: its test
+/// evaluates the same quadratic at the same or nearer points than a
+/// piece's, and the widening covers their rounding, so it never turns
+/// away a ray that some piece's shell lets in. Tested first, it spares a
+/// ray that misses the surface the test of each piece.
+fn around<'s>(shells: impl Iterator<Item = &'s Shell>, scale: f64) -> Shell {
+    let mut all = Shell {
+        z_lo: f64::INFINITY,
+        z_hi: f64::NEG_INFINITY,
+        rho_lo2: f64::INFINITY,
+        rho_hi2: 0.0,
+    };
+    for s in shells {
+        all.z_lo = all.z_lo.min(s.z_lo);
+        all.z_hi = all.z_hi.max(s.z_hi);
+        all.rho_lo2 = all.rho_lo2.min(s.rho_lo2);
+        all.rho_hi2 = all.rho_hi2.max(s.rho_hi2);
+    }
+    let widen = 1e-6 * scale * scale;
+    all.rho_lo2 = (all.rho_lo2 - widen).max(0.0);
+    all.rho_hi2 += widen;
+    all
+}
+
+impl Piece {
     /// The curve parameter at `x` ∈ [0, 1] within the piece (clamped).
     #[inline]
     pub fn curve_at(&self, x: f64) -> f64 {
         self.s0 + x.clamp(0.0, 1.0) * (self.s1 - self.s0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Ray;
+    use glam::DVec3;
+    use rand::{Rng, SeedableRng};
+    use std::f64::consts::TAU;
+
+    /// The shell around a profile's pieces lets in every ray that one of
+    /// their shells lets in: random profiles, rays at random points by
+    /// the shells' heights and radii (inside the inner ones too, and from
+    /// inside), over the whole ray, from its start, and in slivers.
+    #[test]
+    fn the_shell_around_the_pieces_lets_in_what_any_piece_does() {
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(5);
+        let (mut entered, mut turned_away) = (0, 0);
+        for _ in 0..300 {
+            let n = rng.random_range(1..=6);
+            let z: Vec<f64> = (0..=n).map(|_| rng.random_range(-1.0..1.0)).collect();
+            let r: Vec<f64> = (0..=n).map(|_| rng.random_range(-0.2..1.0)).collect();
+            let pieces = Pieces::cut(&z, &r, n, 2.0);
+            for _ in 0..300 {
+                let near = |rng: &mut rand_pcg::Pcg64, reach: f64| {
+                    let (a, rho) = (rng.random_range(0.0..TAU), rng.random_range(0.0..reach));
+                    DVec3::new(rho * a.cos(), rho * a.sin(), rng.random_range(-1.2..1.2))
+                };
+                let origin = if rng.random_bool(0.3) {
+                    near(&mut rng, 1.0)
+                } else {
+                    near(&mut rng, 6.0) * DVec3::new(1.0, 1.0, 4.0)
+                };
+                let dir = (near(&mut rng, 1.1) - origin).normalize_or_zero();
+                if dir == DVec3::ZERO {
+                    continue;
+                }
+                let ray = AxisRay::new(
+                    &Ray::new(origin, dir),
+                    DVec3::ZERO,
+                    DVec3::Z,
+                    DVec3::ZERO,
+                    0.0,
+                );
+                let a = rng.random_range(-8.0..8.0);
+                for (lo, hi) in [
+                    (f64::NEG_INFINITY, f64::INFINITY),
+                    (-ray.t0, f64::INFINITY),
+                    (a, a + 1e-3),
+                ] {
+                    if pieces
+                        .list()
+                        .iter()
+                        .any(|p| p.shell.entry(&ray, lo, hi).is_some())
+                    {
+                        entered += 1;
+                        assert!(
+                            pieces.shell().entry(&ray, lo, hi).is_some(),
+                            "z {z:?} r {r:?}: the ray from {origin} along {dir} in ({lo}, {hi})"
+                        );
+                    } else if pieces.shell().entry(&ray, lo, hi).is_none() {
+                        turned_away += 1;
+                    }
+                }
+            }
+        }
+        // Both cases are common: the test is not vacuous, nor the shell.
+        assert!(
+            entered > 30_000 && turned_away > 30_000,
+            "{entered} entered, {turned_away} turned away"
+        );
     }
 }
