@@ -1,6 +1,6 @@
 //! Lights: their kinds and the geometry of each (where their shadow rays go).
 
-use crate::geometry::{Ray, Sphere, perpendiculars};
+use crate::geometry::perpendiculars;
 use crate::sampling::{RandomSource, strata};
 use glam::DVec3;
 use rand::Rng;
@@ -167,11 +167,17 @@ impl Light {
                 let rng = rng.generator();
                 let (rows, cols) = strata(samples);
                 let (cell_a, cell_b) = (2.0 / cols as f64, 2.0 / rows as f64);
-                in_batches(rows, cols, &mut each, |r, c| {
-                    let a = (c as f64 + rng.random::<f64>()) * cell_a - 1.0;
-                    let b = (r as f64 + rng.random::<f64>()) * cell_b - 1.0;
-                    toward(origin, center + dx * a + dy * b)
-                })
+                in_batches(
+                    rows,
+                    cols,
+                    &mut each,
+                    |r, c| {
+                        let a = (c as f64 + rng.random::<f64>()) * cell_a - 1.0;
+                        let b = (r as f64 + rng.random::<f64>()) * cell_b - 1.0;
+                        center + dx * a + dy * b
+                    },
+                    |points, out| toward_each(origin, points, out),
+                )
             }
             LightKind::Sphere { center, radius } => {
                 let to = center - origin;
@@ -183,24 +189,30 @@ impl Light {
                 let w = to / dist;
                 let cos_max = (1.0 - radius * radius / d2).max(0.0).sqrt();
                 let (u_axis, v_axis) = perpendiculars(w);
-                let sphere = Sphere::new(center, radius);
-                let tangent = (d2 - radius * radius).max(0.0).sqrt();
+                let cone = Cone {
+                    origin,
+                    center,
+                    radius,
+                    w,
+                    u_axis,
+                    v_axis,
+                    tangent: (d2 - radius * radius).max(0.0).sqrt(),
+                };
                 let rng = rng.generator();
                 let (rows, cols) = strata(samples);
-                in_batches(rows, cols, &mut each, |r, c| {
-                    // Uniform in solid angle over the cone: cos θ uniform in [cos_max, 1].
-                    let cos_t =
-                        1.0 - (r as f64 + rng.random::<f64>()) / rows as f64 * (1.0 - cos_max);
-                    let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
-                    let phi = TAU * (c as f64 + rng.random::<f64>()) / cols as f64;
-                    let dir =
-                        (w * cos_t + (u_axis * phi.cos() + v_axis * phi.sin()) * sin_t).normalize();
-                    // Up to the light's surface (the tangent distance for rounding at the rim).
-                    let t_light = sphere
-                        .roots(&Ray::new(origin, dir))
-                        .map_or(tangent, |(t0, _)| t0);
-                    (dir, t_light)
-                })
+                in_batches(
+                    rows,
+                    cols,
+                    &mut each,
+                    |r, c| {
+                        // Uniform in solid angle over the cone: cos θ uniform in [cos_max, 1].
+                        let cos_t =
+                            1.0 - (r as f64 + rng.random::<f64>()) / rows as f64 * (1.0 - cos_max);
+                        let phi = TAU * (c as f64 + rng.random::<f64>()) / cols as f64;
+                        [cos_t, phi.cos(), phi.sin()]
+                    },
+                    |drawn, out| cone.rays(drawn, out),
+                )
             }
         }
     }
@@ -253,33 +265,67 @@ fn toward(origin: DVec3, p: DVec3) -> (DVec3, f64) {
     (dir, dist)
 }
 
+/// [`toward`] for each of `points`, a lane each: the same operations, in
+/// a coordinate at a time so that the compiler runs the lanes side by side.
+#[inline(always)]
+fn toward_each(origin: DVec3, points: &[DVec3; BATCH], out: &mut [(DVec3, f64); BATCH]) {
+    let mut x = [0.0; BATCH];
+    let mut y = [0.0; BATCH];
+    let mut z = [0.0; BATCH];
+    let mut dist = [0.0; BATCH];
+    for k in 0..BATCH {
+        let (tx, ty, tz) = (
+            points[k].x - origin.x,
+            points[k].y - origin.y,
+            points[k].z - origin.z,
+        );
+        let d = (tx * tx + ty * ty + tz * tz).sqrt();
+        let recip = 1.0 / d;
+        (x[k], y[k], z[k]) = if d > 0.0 {
+            (tx * recip, ty * recip, tz * recip)
+        } else {
+            (0.0, 0.0, 1.0)
+        };
+        dist[k] = d;
+    }
+    for k in 0..BATCH {
+        out[k] = (DVec3::new(x[k], y[k], z[k]), dist[k]);
+    }
+}
+
 /// Shadow samples made ahead of their rays, at most this many at a time.
 const BATCH: usize = 16;
 
-/// Calls `each(unit direction, distance)` with `make(row, column)` for
-/// each cell of a `rows`×`cols` grid, row by row, and returns their number.
-/// Up to [`BATCH`] samples are made before their rays are traced, so that
-/// their square roots and divisions overlap in the CPU rather than wait on
-/// each ray's walk; the order of the draws and of the rays is the same.
+/// Calls `each(unit direction, distance)` for each cell of a
+/// `rows`×`cols` grid, row by row, and returns their number: `draw(row,
+/// column)` makes a cell's draws, and `rays` turns a batch of draws into
+/// their rays (the slots past the batch's end hold earlier or default
+/// draws; their rays are not used). Up to [`BATCH`] samples are made
+/// before their rays are traced, so that their square roots and divisions
+/// overlap in the CPU, lane by lane, rather than wait on each ray's walk;
+/// the order of the draws and of the rays is the same.
 #[inline(always)]
-fn in_batches(
+fn in_batches<D: Copy + Default>(
     rows: u32,
     cols: u32,
     each: &mut impl FnMut(DVec3, f64),
-    mut make: impl FnMut(u32, u32) -> (DVec3, f64),
+    mut draw: impl FnMut(u32, u32) -> D,
+    rays: impl Fn(&[D; BATCH], &mut [(DVec3, f64); BATCH]),
 ) -> u32 {
+    let mut drawn = [D::default(); BATCH];
     let mut batch = [(DVec3::ZERO, 0.0); BATCH];
     let (mut r, mut c) = (0, 0);
     let mut left = rows * cols;
     while left > 0 {
         let len = left.min(BATCH as u32);
-        for slot in &mut batch[..len as usize] {
-            *slot = make(r, c);
+        for slot in &mut drawn[..len as usize] {
+            *slot = draw(r, c);
             c += 1;
             if c == cols {
                 (r, c) = (r + 1, 0);
             }
         }
+        rays(&drawn, &mut batch);
         for &(dir, dist) in &batch[..len as usize] {
             each(dir, dist);
         }
@@ -288,9 +334,151 @@ fn in_batches(
     rows * cols
 }
 
+/// The cone of directions from `origin` to a sphere light, about `w`.
+struct Cone {
+    origin: DVec3,
+    center: DVec3,
+    radius: f64,
+    /// The unit direction to the centre, and two unit perpendiculars.
+    w: DVec3,
+    u_axis: DVec3,
+    v_axis: DVec3,
+    /// The distance to the sphere's rim.
+    tangent: f64,
+}
+
+impl Cone {
+    /// The rays of a batch of draws (cos θ, cos φ, sin φ): the unit
+    /// direction at polar angle θ, azimuth φ, and the distance to the
+    /// sphere along it (its nearest root, the tangent distance where
+    /// rounding misses the rim). Each lane does the operations of
+    /// `DVec3::normalize` and `Sphere::roots` for one sample, in their
+    /// order, so the values are theirs, bit for bit; written a coordinate
+    /// at a time so that the compiler runs the lanes side by side.
+    #[inline(always)]
+    fn rays(&self, drawn: &[[f64; 3]; BATCH], out: &mut [(DVec3, f64); BATCH]) {
+        let (w, u, v) = (self.w, self.u_axis, self.v_axis);
+        let f = self.origin - self.center;
+        let r2 = self.radius * self.radius;
+        let c = f.length_squared() - r2;
+        let mut x = [0.0; BATCH];
+        let mut y = [0.0; BATCH];
+        let mut z = [0.0; BATCH];
+        let mut t = [0.0; BATCH];
+        for k in 0..BATCH {
+            let [cos_t, cos_p, sin_p] = drawn[k];
+            let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
+            let dx = w.x * cos_t + (u.x * cos_p + v.x * sin_p) * sin_t;
+            let dy = w.y * cos_t + (u.y * cos_p + v.y * sin_p) * sin_t;
+            let dz = w.z * cos_t + (u.z * cos_p + v.z * sin_p) * sin_t;
+            let recip = 1.0 / (dx * dx + dy * dy + dz * dz).sqrt();
+            let (dx, dy, dz) = (dx * recip, dy * recip, dz * recip);
+            let b = f.x * dx + f.y * dy + f.z * dz;
+            let (px, py, pz) = (f.x - dx * b, f.y - dy * b, f.z - dz * b);
+            let disc = r2 - (px * px + py * py + pz * pz);
+            let q = -b - disc.sqrt().copysign(b);
+            let t0 = c / q;
+            let near = if t0 <= q { t0 } else { q };
+            t[k] = if disc < 0.0 {
+                self.tangent
+            } else if q == 0.0 {
+                0.0
+            } else {
+                near
+            };
+            (x[k], y[k], z[k]) = (dx, dy, dz);
+        }
+        for k in 0..BATCH {
+            out[k] = (DVec3::new(x[k], y[k], z[k]), t[k]);
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::{Ray, Sphere};
+    use rand::SeedableRng;
+
+    /// A random point in (−s, s)³, its scale itself random over twelve
+    /// orders of magnitude.
+    fn point(rng: &mut rand_pcg::Pcg64) -> DVec3 {
+        let s = 10f64.powf(rng.random_range(-6.0..6.0));
+        DVec3::new(
+            rng.random_range(-s..s),
+            rng.random_range(-s..s),
+            rng.random_range(-s..s),
+        )
+    }
+
+    #[test]
+    fn a_cones_lanes_give_the_bits_of_normalize_and_the_spheres_roots() {
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(3);
+        for _ in 0..4000 {
+            let (origin, center) = (point(&mut rng), point(&mut rng));
+            let to = center - origin;
+            // Radii from a sliver of the distance to nearly all of it.
+            let radius = to.length() * 10f64.powf(rng.random_range(-9.0..-1e-9));
+            let d2 = to.length_squared();
+            let w = to / d2.sqrt();
+            let (u_axis, v_axis) = perpendiculars(w);
+            let cos_max = (1.0 - radius * radius / d2).max(0.0).sqrt();
+            let cone = Cone {
+                origin,
+                center,
+                radius,
+                w,
+                u_axis,
+                v_axis,
+                tangent: (d2 - radius * radius).max(0.0).sqrt(),
+            };
+            // Directions across the cone, its rim (cos θ = cos_max) included.
+            let drawn: [[f64; 3]; BATCH] = std::array::from_fn(|k| {
+                let cos_t = if k == 0 {
+                    cos_max
+                } else {
+                    1.0 - rng.random::<f64>() * (1.0 - cos_max)
+                };
+                let phi = TAU * rng.random::<f64>();
+                [cos_t, phi.cos(), phi.sin()]
+            });
+            let mut out = [(DVec3::ZERO, 0.0); BATCH];
+            cone.rays(&drawn, &mut out);
+            let sphere = Sphere::new(center, radius);
+            for (k, &[cos_t, cos_p, sin_p]) in drawn.iter().enumerate() {
+                let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
+                let dir = (w * cos_t + (u_axis * cos_p + v_axis * sin_p) * sin_t).normalize();
+                let t = sphere
+                    .roots(&Ray::new(origin, dir))
+                    .map_or(cone.tangent, |(t0, _)| t0);
+                let bits = |(d, t): (DVec3, f64)| (d.to_array().map(f64::to_bits), t.to_bits());
+                assert_eq!(
+                    bits(out[k]),
+                    bits((dir, t)),
+                    "lane {k} of {origin} → {center} r {radius}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn lanes_toward_points_give_the_bits_of_toward() {
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(4);
+        for _ in 0..4000 {
+            let origin = point(&mut rng);
+            let points: [DVec3; BATCH] = std::array::from_fn(|k| match k {
+                0 => origin,
+                1 => origin + DVec3::new(0.0, 5e-324, 0.0),
+                _ => point(&mut rng),
+            });
+            let mut out = [(DVec3::ZERO, 0.0); BATCH];
+            toward_each(origin, &points, &mut out);
+            for (k, &p) in points.iter().enumerate() {
+                let bits = |(d, t): (DVec3, f64)| (d.to_array().map(f64::to_bits), t.to_bits());
+                assert_eq!(bits(out[k]), bits(toward(origin, p)), "{origin} → {p}");
+            }
+        }
+    }
 
     #[test]
     fn batches_make_and_hand_on_every_cell_row_by_row() {
@@ -308,6 +496,7 @@ mod tests {
                         made += 1.0;
                         (DVec3::new(f64::from(r), f64::from(c), made), made)
                     },
+                    |made, out| *out = *made,
                 );
                 assert_eq!(n, rows * cols);
                 let expected: Vec<(DVec3, f64)> = (0..rows)
