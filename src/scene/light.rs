@@ -180,23 +180,8 @@ impl Light {
                 )
             }
             LightKind::Sphere { center, radius } => {
-                let to = center - origin;
-                let d2 = to.length_squared();
-                if d2 <= radius * radius {
+                let Some((cone, cos_max)) = Cone::of(origin, center, radius) else {
                     return 0;
-                }
-                let dist = d2.sqrt();
-                let w = to / dist;
-                let cos_max = (1.0 - radius * radius / d2).max(0.0).sqrt();
-                let (u_axis, v_axis) = perpendiculars(w);
-                let cone = Cone {
-                    origin,
-                    center,
-                    radius,
-                    w,
-                    u_axis,
-                    v_axis,
-                    tangent: (d2 - radius * radius).max(0.0).sqrt(),
                 };
                 let rng = rng.generator();
                 let (rows, cols) = strata(samples);
@@ -348,6 +333,30 @@ struct Cone {
 }
 
 impl Cone {
+    /// The cone from `origin` to the sphere light of `center` and
+    /// `radius`, and the cosine of its half-angle; `None` from inside the
+    /// light.
+    fn of(origin: DVec3, center: DVec3, radius: f64) -> Option<(Cone, f64)> {
+        let to = center - origin;
+        let d2 = to.length_squared();
+        if d2 <= radius * radius {
+            return None;
+        }
+        let w = to / d2.sqrt();
+        let cos_max = (1.0 - radius * radius / d2).max(0.0).sqrt();
+        let (u_axis, v_axis) = perpendiculars(w);
+        let cone = Cone {
+            origin,
+            center,
+            radius,
+            w,
+            u_axis,
+            v_axis,
+            tangent: (d2 - radius * radius).max(0.0).sqrt(),
+        };
+        Some((cone, cos_max))
+    }
+
     /// The rays of a batch of draws (cos θ, cos φ, sin φ): the unit
     /// direction at polar angle θ, azimuth φ, and the distance to the
     /// sphere along it (its nearest root, the tangent distance where
@@ -419,19 +428,10 @@ mod tests {
             let to = center - origin;
             // Radii from a sliver of the distance to nearly all of it.
             let radius = to.length() * 10f64.powf(rng.random_range(-9.0..-1e-9));
-            let d2 = to.length_squared();
-            let w = to / d2.sqrt();
-            let (u_axis, v_axis) = perpendiculars(w);
-            let cos_max = (1.0 - radius * radius / d2).max(0.0).sqrt();
-            let cone = Cone {
-                origin,
-                center,
-                radius,
-                w,
-                u_axis,
-                v_axis,
-                tangent: (d2 - radius * radius).max(0.0).sqrt(),
+            let Some((cone, cos_max)) = Cone::of(origin, center, radius) else {
+                panic!("{origin} inside the sphere of {center}, {radius}"); // invariant: the test's radius is below the distance (a failure fails the test)
             };
+            let (w, u_axis, v_axis) = (cone.w, cone.u_axis, cone.v_axis);
             // Directions across the cone, its rim (cos θ = cos_max) included.
             let drawn: [[f64; 3]; BATCH] = std::array::from_fn(|k| {
                 let cos_t = if k == 0 {
