@@ -68,10 +68,10 @@ impl Plane {
     }
 }
 
-/// Whether `num / denom` has its sign bit set (a negative, −0 or a NaN):
-/// then no hit lies past a `t_min` ≥ 0, and a ray leaving the plane
-/// behind it (most shadow rays above a floor) is told so without the
-/// division.
+/// Whether the sign bits of `num` and `denom` differ: then `num / denom`
+/// is negative, −0, −∞ or NaN, none of them past a `t_min` ≥ 0, and a
+/// ray leaving the plane behind it (most shadow rays above a floor) is
+/// told so without the division.
 #[inline(always)]
 pub(crate) fn behind(num: f64, denom: f64) -> bool {
     (num.to_bits() ^ denom.to_bits()) >> 63 == 1

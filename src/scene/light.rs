@@ -250,15 +250,17 @@ fn toward(origin: DVec3, p: DVec3) -> (DVec3, f64) {
     (dir, dist)
 }
 
-/// [`toward`] for each of `points`, a lane each: the same operations, in
-/// a coordinate at a time so that the compiler runs the lanes side by side.
+/// [`toward`] for each of `points` (at most [`BATCH`]) into `out`, a lane
+/// each: the same operations, a coordinate at a time so that the compiler
+/// runs the lanes side by side.
 #[inline(always)]
-fn toward_each(origin: DVec3, points: &[DVec3; BATCH], out: &mut [(DVec3, f64); BATCH]) {
+fn toward_each(origin: DVec3, points: &[DVec3], out: &mut [(DVec3, f64)]) {
+    let n = points.len().min(out.len()).min(BATCH);
     let mut x = [0.0; BATCH];
     let mut y = [0.0; BATCH];
     let mut z = [0.0; BATCH];
     let mut dist = [0.0; BATCH];
-    for k in 0..BATCH {
+    for k in 0..n {
         let (tx, ty, tz) = (
             points[k].x - origin.x,
             points[k].y - origin.y,
@@ -273,7 +275,7 @@ fn toward_each(origin: DVec3, points: &[DVec3; BATCH], out: &mut [(DVec3, f64); 
         };
         dist[k] = d;
     }
-    for k in 0..BATCH {
+    for k in 0..n {
         out[k] = (DVec3::new(x[k], y[k], z[k]), dist[k]);
     }
 }
@@ -284,8 +286,7 @@ const BATCH: usize = 16;
 /// Calls `each(unit direction, distance)` for each cell of a
 /// `rows`×`cols` grid, row by row, and returns their number: `draw(row,
 /// column)` makes a cell's draws, and `rays` turns a batch of draws into
-/// their rays (the slots past the batch's end hold earlier or default
-/// draws; their rays are not used). Up to [`BATCH`] samples are made
+/// their rays. Up to [`BATCH`] samples are made
 /// before their rays are traced, so that their square roots and divisions
 /// overlap in the CPU, lane by lane, rather than wait on each ray's walk;
 /// the order of the draws and of the rays is the same.
@@ -295,7 +296,7 @@ fn in_batches<D: Copy + Default>(
     cols: u32,
     each: &mut impl FnMut(DVec3, f64),
     mut draw: impl FnMut(u32, u32) -> D,
-    rays: impl Fn(&[D; BATCH], &mut [(DVec3, f64); BATCH]),
+    rays: impl Fn(&[D], &mut [(DVec3, f64)]),
 ) -> u32 {
     let mut drawn = [D::default(); BATCH];
     let mut batch = [(DVec3::ZERO, 0.0); BATCH];
@@ -310,7 +311,7 @@ fn in_batches<D: Copy + Default>(
                 (r, c) = (r + 1, 0);
             }
         }
-        rays(&drawn, &mut batch);
+        rays(&drawn[..len as usize], &mut batch[..len as usize]);
         for &(dir, dist) in &batch[..len as usize] {
             each(dir, dist);
         }
@@ -357,7 +358,8 @@ impl Cone {
         Some((cone, cos_max))
     }
 
-    /// The rays of a batch of draws (cos θ, cos φ, sin φ): the unit
+    /// The rays of a batch of draws (cos θ, cos φ, sin φ), at most
+    /// [`BATCH`], into `out`: the unit
     /// direction at polar angle θ, azimuth φ, and the distance to the
     /// sphere along it (its nearest root, the tangent distance where
     /// rounding misses the rim). Each lane does the operations of
@@ -365,7 +367,8 @@ impl Cone {
     /// order, so the values are theirs, bit for bit; written a coordinate
     /// at a time so that the compiler runs the lanes side by side.
     #[inline(always)]
-    fn rays(&self, drawn: &[[f64; 3]; BATCH], out: &mut [(DVec3, f64); BATCH]) {
+    fn rays(&self, drawn: &[[f64; 3]], out: &mut [(DVec3, f64)]) {
+        let n = drawn.len().min(out.len()).min(BATCH);
         let (w, u, v) = (self.w, self.u_axis, self.v_axis);
         let f = self.origin - self.center;
         let r2 = self.radius * self.radius;
@@ -374,7 +377,7 @@ impl Cone {
         let mut y = [0.0; BATCH];
         let mut z = [0.0; BATCH];
         let mut t = [0.0; BATCH];
-        for k in 0..BATCH {
+        for k in 0..n {
             let [cos_t, cos_p, sin_p] = drawn[k];
             let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
             let dx = w.x * cos_t + (u.x * cos_p + v.x * sin_p) * sin_t;
@@ -388,6 +391,8 @@ impl Cone {
             let q = -b - disc.sqrt().copysign(b);
             let t0 = c / q;
             let near = if t0 <= q { t0 } else { q };
+            // (q is 0 only for a ray from the sphere's surface, which a
+            // cone's origin, outside it, never is; kept as `roots` has it.)
             t[k] = if disc < 0.0 {
                 self.tangent
             } else if q == 0.0 {
@@ -397,7 +402,7 @@ impl Cone {
             };
             (x[k], y[k], z[k]) = (dx, dy, dz);
         }
-        for k in 0..BATCH {
+        for k in 0..n {
             out[k] = (DVec3::new(x[k], y[k], z[k]), t[k]);
         }
     }
@@ -496,7 +501,7 @@ mod tests {
                         made += 1.0;
                         (DVec3::new(f64::from(r), f64::from(c), made), made)
                     },
-                    |made, out| *out = *made,
+                    |made, out| out.copy_from_slice(made),
                 );
                 assert_eq!(n, rows * cols);
                 let expected: Vec<(DVec3, f64)> = (0..rows)
