@@ -85,7 +85,7 @@ impl Cylinder {
         };
         // The side only narrows the caps' span: wholly before t_min or
         // past t_max, it holds no hit (and the side's roots are not needed).
-        if span.before(t_min) || span.beyond(t_max) {
+        if span.outside(t_min, t_max) {
             return None;
         }
         // Side: |s⊥ + t·d⊥|² = R², solved in the form of Sphere::roots that

@@ -39,7 +39,7 @@ impl Plane {
             return None;
         }
         let num = self.offset - self.normal.dot(ray.origin);
-        if t_min >= 0.0 && behind(num, denom) {
+        if behind(num, denom, t_min) {
             return None;
         }
         let t = num / denom;
@@ -68,13 +68,13 @@ impl Plane {
     }
 }
 
-/// Whether the sign bits of `num` and `denom` differ: then `num / denom`
-/// is negative, −0, −∞ or NaN, none of them past a `t_min` ≥ 0, and a
-/// ray leaving the plane behind it (most shadow rays above a floor) is
-/// told so without the division.
+/// Whether `t = num / denom` cannot pass `t > t_min`, told without the
+/// division: `t_min` ≥ 0 and the sign bits of `num` and `denom` differ,
+/// so `t` is negative, −0, −∞ or NaN. A ray leaving the plane behind it
+/// (most shadow rays above a floor) is a miss at once.
 #[inline(always)]
-pub(crate) fn behind(num: f64, denom: f64) -> bool {
-    (num.to_bits() ^ denom.to_bits()) >> 63 == 1
+pub(crate) fn behind(num: f64, denom: f64, t_min: f64) -> bool {
+    t_min >= 0.0 && (num.to_bits() ^ denom.to_bits()) >> 63 == 1
 }
 
 #[cfg(test)]

@@ -114,18 +114,12 @@ impl Span {
         }
     }
 
-    /// Whether the span ends at or before `t_min`: then narrowed in any
-    /// way, it gives no [`Span::hit`] past `t_min`.
+    /// Whether the span ends at or before `t_min` or starts at or past
+    /// `t_max`: then, narrowed in any way, it gives no [`Span::hit`]
+    /// between them.
     #[inline]
-    pub(crate) fn before(&self, t_min: f64) -> bool {
-        self.far <= t_min
-    }
-
-    /// Whether the span starts at or past `t_max`: then narrowed in any
-    /// way, it gives no [`Span::hit`] before `t_max`.
-    #[inline]
-    pub(crate) fn beyond(&self, t_max: f64) -> bool {
-        self.near >= t_max
+    pub(crate) fn outside(&self, t_min: f64, t_max: f64) -> bool {
+        self.far <= t_min || self.near >= t_max
     }
 
     /// The nearest end with `t_min < t < t_max`: the entry from outside, the

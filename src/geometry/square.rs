@@ -50,7 +50,7 @@ impl Square {
     pub fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
         let s = self.center - ray.origin;
         let (num, denom) = (s.dot(self.normal), self.normal.dot(ray.dir));
-        if t_min >= 0.0 && behind(num, denom) {
+        if behind(num, denom, t_min) {
             return None;
         }
         // A ray parallel to the plane gives ±∞ or NaN here, which the range test rejects.

@@ -320,11 +320,14 @@ fn in_batches<D: Copy + Default>(
     rows * cols
 }
 
-/// The cone of directions from `origin` to a sphere light, about `w`.
+/// The cone of directions from a point to a sphere light, about `w`.
 struct Cone {
-    origin: DVec3,
-    center: DVec3,
-    radius: f64,
+    /// The point less the light's centre.
+    f: DVec3,
+    /// The radius squared.
+    r2: f64,
+    /// |f|² − r2 (the roots' product, as `Sphere::roots` has it).
+    c: f64,
     /// The unit direction to the centre, and two unit perpendiculars.
     w: DVec3,
     u_axis: DVec3,
@@ -340,20 +343,23 @@ impl Cone {
     fn of(origin: DVec3, center: DVec3, radius: f64) -> Option<(Cone, f64)> {
         let to = center - origin;
         let d2 = to.length_squared();
-        if d2 <= radius * radius {
+        let r2 = radius * radius;
+        if d2 <= r2 {
             return None;
         }
         let w = to / d2.sqrt();
-        let cos_max = (1.0 - radius * radius / d2).max(0.0).sqrt();
+        let cos_max = (1.0 - r2 / d2).max(0.0).sqrt();
         let (u_axis, v_axis) = perpendiculars(w);
+        // origin − centre is −to exactly, with the same |·|²: d2.
+        let c = d2 - r2;
         let cone = Cone {
-            origin,
-            center,
-            radius,
+            f: origin - center,
+            r2,
+            c,
             w,
             u_axis,
             v_axis,
-            tangent: (d2 - radius * radius).max(0.0).sqrt(),
+            tangent: c.max(0.0).sqrt(),
         };
         Some((cone, cos_max))
     }
@@ -370,9 +376,7 @@ impl Cone {
     fn rays(&self, drawn: &[[f64; 3]], out: &mut [(DVec3, f64)]) {
         let n = drawn.len().min(out.len()).min(BATCH);
         let (w, u, v) = (self.w, self.u_axis, self.v_axis);
-        let f = self.origin - self.center;
-        let r2 = self.radius * self.radius;
-        let c = f.length_squared() - r2;
+        let (f, r2, c) = (self.f, self.r2, self.c);
         let mut x = [0.0; BATCH];
         let mut y = [0.0; BATCH];
         let mut z = [0.0; BATCH];
