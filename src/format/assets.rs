@@ -302,12 +302,10 @@ fn texture_from(img: image::DynamicImage) -> Result<Texture, String> {
         return Err("the image is empty".to_string());
     }
     // image stores rows top-down; the framework's row 0 is the bottom.
-    let texels = img
-        .rows()
-        .rev()
-        .flatten()
-        .map(|p| p.0.map(|b| b as f32 / 255.0))
-        .collect();
+    let mut texels = Vec::with_capacity(w * h);
+    for row in img.as_raw().chunks_exact(3 * w).rev() {
+        texels.extend(row.chunks_exact(3).map(|p| [p[0], p[1], p[2]]));
+    }
     Ok(Texture::from_rows(w, h, texels))
 }
 

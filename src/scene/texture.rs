@@ -2,45 +2,44 @@
 
 use glam::{DVec2, DVec3};
 
-/// A decoded image texture in linear floats (a byte b means b/255).
+/// A decoded image texture: a byte per channel, read as byte/255 (or as
+/// the lineage divides its bytes).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Texture {
     width: usize,
     height: usize,
     /// Rows bottom-up: row 0 is the bottom of the picture (BMP order).
-    texels: Vec<[f32; 3]>,
+    texels: Vec<[u8; 3]>,
+    /// What each byte reads as: byte / divisor, rounded once to f32.
+    value: [f64; 256],
     /// Whether coordinates wrap at the seam (else they clamp at the edges).
     wraps: bool,
 }
 
 impl Texture {
-    /// A texture from rows listed bottom-up (for tests and generated textures).
-    pub fn from_rows(width: usize, height: usize, texels: Vec<[f32; 3]>) -> Texture {
+    /// A texture from rows of bytes listed bottom-up, each read as byte/255.
+    pub fn from_rows(width: usize, height: usize, texels: Vec<[u8; 3]>) -> Texture {
         assert_eq!(texels.len(), width * height, "texel count"); // invariant: caller's contract
         Texture {
             width,
             height,
             texels,
+            value: byte_values(255.0),
             wraps: true,
         }
     }
 
-    /// Re-reads texels decoded as byte/255 as byte/`divisor` (the
-    /// framework divides its bytes by 256).
+    /// Reads each byte as byte/`divisor` (the framework divides its bytes
+    /// by 256).
     pub(crate) fn set_byte_divisor(&mut self, divisor: f32) {
-        if divisor == 255.0 {
-            return;
-        }
-        for t in &mut self.texels {
-            *t = t.map(|c| round(c * 255.0) / divisor);
-        }
+        self.value = byte_values(divisor);
     }
 
     /// Turns the rows upside down and clamps coordinates at the edges
     /// instead of wrapping (a lineage that loads images top row first).
     pub(crate) fn flip_clamped(&mut self) {
         let w = self.width;
-        let rows: Vec<&[[f32; 3]]> = self.texels.chunks(w.max(1)).rev().collect();
+        let rows: Vec<&[[u8; 3]]> = self.texels.chunks(w.max(1)).rev().collect();
         self.texels = rows.concat();
         self.wraps = false;
     }
@@ -61,13 +60,18 @@ impl Texture {
         let (r0, r1, fr) = wrap(uv.x, self.height, self.wraps);
         let (c0, c1, fc) = wrap(uv.y, self.width, self.wraps);
         let at = |r: usize, c: usize| {
-            let t = self.texels[r * self.width + c];
-            DVec3::new(t[0] as f64, t[1] as f64, t[2] as f64)
+            DVec3::from_array(self.texels[r * self.width + c].map(|b| self.value[usize::from(b)]))
         };
         let bottom = at(r0, c0) * (1.0 - fc) + at(r0, c1) * fc;
         let top = at(r1, c0) * (1.0 - fc) + at(r1, c1) * fc;
         bottom * (1.0 - fr) + top * fr
     }
+}
+
+/// Each byte's reading: byte / `divisor` rounded to f32, the precision
+/// texels have been held in since the first textures (the same pictures).
+fn byte_values(divisor: f32) -> [f64; 256] {
+    std::array::from_fn(|b| f64::from(b as f32 / divisor))
 }
 
 /// The two texel indices around coordinate `x · n` (its fraction: the
@@ -90,26 +94,11 @@ fn wrap(x: f64, n: usize, wraps: bool) -> (usize, usize, f64) {
     (i0, i1, s - k)
 }
 
-/// `x.round()` (halves away from zero), bit for bit, without the library
-/// call (x86-64's baseline has no rounding instruction) that a texture
-/// re-read in bytes/256 would make three times a texel.
-#[inline]
-fn round(x: f32) -> f32 {
-    let a = x.abs();
-    // Exact below 2^23, where t ≤ a < t + 1 share their unit in the last
-    // place; from there on every f32 is whole, and NaN stays NaN. No
-    // branch: the texels' loop is vectorised.
-    let t = a as i32 as f32;
-    let r = if a - t >= 0.5 { t + 1.0 } else { t };
-    let r = if a < 8_388_608.0 { r } else { a };
-    r.copysign(x)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// Values around every case of [`round`] and [`wrap`]: whole numbers
+    /// Values around every case of [`wrap`]: whole numbers
     /// and halves, their neighbours, the ends of the exact ranges, zeros of
     /// both signs, infinities, NaN, and random values of every size.
     fn edge_values() -> Vec<f64> {
@@ -166,25 +155,9 @@ mod tests {
         }
     }
 
-    #[test]
-    fn round_is_the_library_round_bit_for_bit() {
-        for x in edge_values() {
-            let x = x as f32;
-            assert_eq!(round(x).to_bits(), x.round().to_bits(), "round({x:e})");
-        }
-        for b in 0..=255u8 {
-            let c = f32::from(b) / 255.0 * 255.0;
-            assert_eq!(round(c), f32::from(b));
-        }
-    }
-
     fn two_by_two() -> Texture {
         // bottom row: black, red; top row: green, white
-        Texture::from_rows(
-            2,
-            2,
-            vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0; 3]],
-        )
+        Texture::from_rows(2, 2, vec![[0; 3], [255, 0, 0], [0, 255, 0], [255; 3]])
     }
 
     #[test]
@@ -213,9 +186,24 @@ mod tests {
     }
 
     #[test]
+    fn every_byte_reads_as_its_share_of_the_divisor() {
+        // b/255 in binary is the byte b repeated, never a tie between two
+        // f32: rounding the f64 quotient to f32 rounds the exact one.
+        for b in 0..=255u8 {
+            let mut t = Texture::from_rows(1, 1, vec![[b, 255 - b, b / 2]]);
+            let near = |c: u8, d: f64| f64::from((f64::from(c) / d) as f32);
+            let at = |t: &Texture| t.sample(DVec2::ZERO);
+            let expect = |d| DVec3::new(near(b, d), near(255 - b, d), near(b / 2, d));
+            assert_eq!(at(&t), expect(255.0), "byte {b}");
+            t.set_byte_divisor(256.0);
+            assert_eq!(at(&t), expect(256.0), "byte {b}");
+        }
+    }
+
+    #[test]
     fn lineages_read_bytes_their_way() {
-        // Bytes 255 and 128 decoded as b/255, read back as b/256 (the framework).
-        let mut t = Texture::from_rows(2, 1, vec![[1.0, 128.0 / 255.0, 0.0], [0.0; 3]]);
+        // Bytes 255 and 128 read as b/256 (the framework).
+        let mut t = Texture::from_rows(2, 1, vec![[255, 128, 0], [0; 3]]);
         t.set_byte_divisor(256.0);
         assert_eq!(
             t.sample(DVec2::ZERO),
