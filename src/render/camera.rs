@@ -3,6 +3,7 @@
 //! the colon family's (the framework's, turned by its `up:`), with their
 //! thin lenses.
 
+use crate::accel::PACKET_MAX;
 use crate::geometry::Ray;
 use crate::integrator::Lens;
 use crate::scene::Camera;
@@ -115,33 +116,68 @@ impl CameraRays {
         Ray::new(self.origin, self.direction(i, j).normalize())
     }
 
+    /// [`CameraRays::ray`] for each image position (`i`, `j`) of `at` (at
+    /// most [`PACKET_MAX`]) into `out`, a lane each: the same operations
+    /// (the direction, then `DVec3::normalize`'s), a coordinate at a time
+    /// so that the compiler runs the lanes side by side.
+    #[inline]
+    pub fn rays(&self, at: &[(f64, f64)], out: &mut [Ray]) {
+        let n = at.len().min(out.len()).min(PACKET_MAX);
+        // The direction's weights of Dy and Dx, each lens's in its own
+        // loop (the lens a constant in each).
+        let (mut a, mut b) = ([0.0; PACKET_MAX], [0.0; PACKET_MAX]);
+        let mut weights = |lens: Lens| {
+            for k in 0..n {
+                (a[k], b[k]) = self.weights(lens, at[k].0, at[k].1);
+            }
+        };
+        match self.lens {
+            Lens::Framework => weights(Lens::Framework),
+            Lens::Spanned => weights(Lens::Spanned),
+            Lens::Corner => weights(Lens::Corner),
+            Lens::Hta => weights(Lens::Hta),
+        }
+        let (mut x, mut y, mut z) = ([0.0; PACKET_MAX], [0.0; PACKET_MAX], [0.0; PACKET_MAX]);
+        let (dir, dy, dx) = (self.dir, self.dy, self.dx);
+        for k in 0..n {
+            // dir + dy·a + dx·b, then normalised: multiplied by 1/√(d·d).
+            let dk = [
+                dir.x + dy.x * a[k] + dx.x * b[k],
+                dir.y + dy.y * a[k] + dx.y * b[k],
+                dir.z + dy.z * a[k] + dx.z * b[k],
+            ];
+            let recip = 1.0 / (dk[0] * dk[0] + dk[1] * dk[1] + dk[2] * dk[2]).sqrt();
+            (x[k], y[k], z[k]) = (dk[0] * recip, dk[1] * recip, dk[2] * recip);
+        }
+        for k in 0..n {
+            out[k] = Ray::new(self.origin, DVec3::new(x[k], y[k], z[k]));
+        }
+    }
+
     /// The lineage's (unnormalised) direction through image position (`i`, `j`).
     #[inline]
     fn direction(&self, i: f64, j: f64) -> DVec3 {
-        match self.lens {
-            Lens::Framework => {
-                self.dir
-                    + self.dy * (2.0 * i / self.height - 1.0)
-                    + self.dx * (2.0 * j / self.width - 1.0)
-            }
+        let (a, b) = self.weights(self.lens, i, j);
+        self.dir + self.dy * a + self.dx * b
+    }
+
+    /// The weights of Dy and Dx in `lens`'s direction through image
+    /// position (`i`, `j`).
+    #[inline(always)]
+    fn weights(&self, lens: Lens, i: f64, j: f64) -> (f64, f64) {
+        let (h, w) = (self.height, self.width);
+        match lens {
+            Lens::Framework => (2.0 * i / h - 1.0, 2.0 * j / w - 1.0),
             // Its pixel k's centre is its integer k, rows from the top: half
             // a pixel left of and above the framework's.
-            Lens::Hta => {
-                self.dir
-                    + self.dy * (2.0 * (i + 0.5) / self.height - 1.0)
-                    + self.dx * (2.0 * (j - 0.5) / self.width - 1.0)
-            }
+            Lens::Hta => (2.0 * (i + 0.5) / h - 1.0, 2.0 * (j - 0.5) / w - 1.0),
             // Pixel k's centre is the lineage's integer k: N + Dy·lens_H·(k/(H−1) − ½)...
             Lens::Spanned => {
                 let span = |k: f64, n: f64| 2.0 * ((k - 0.5) / (n - 1.0).max(1.0) - 0.5);
-                self.dir + self.dy * span(i, self.height) + self.dx * span(j, self.width)
+                (span(i, h), span(j, w))
             }
             // W's row index counts from the top, and N is aimed at pixel (0, 0).
-            Lens::Corner => {
-                self.dir
-                    + self.dy * (2.0 * (self.height - i) / self.height)
-                    + self.dx * (2.0 * j / self.width)
-            }
+            Lens::Corner => (2.0 * (h - i) / h, 2.0 * j / w),
         }
     }
 }
@@ -188,6 +224,54 @@ mod tests {
                 // And passes through the point in focus.
                 let t = (focus - r.origin).dot(r.dir);
                 assert!((r.origin + r.dir * t - focus).length() < 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn rays_made_in_lanes_are_the_single_rays_bit_for_bit() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut unit = move || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for lens in [Lens::Framework, Lens::Spanned, Lens::Corner, Lens::Hta] {
+            for _ in 0..50 {
+                let mut v =
+                    |unit: &mut dyn FnMut() -> f64| DVec3::new(unit(), unit(), unit()) * 2.0 - 1.0;
+                let cam = Camera {
+                    origin: v(&mut unit) * 10.0,
+                    dir: v(&mut unit).normalize(),
+                    lens_w: 0.1 + unit() * 2.0,
+                    lens_h: 0.1 + unit() * 2.0,
+                    right: Some(v(&mut unit).normalize()),
+                    ..Camera::default()
+                };
+                let (w, h) = (1 + (unit() * 2000.0) as u32, 1 + (unit() * 2000.0) as u32);
+                let c = CameraRays::new(&cam, w, h, lens);
+                // Inside the frame and past its edges, its corners exactly,
+                // and a packet of every length up to the most.
+                let n = (unit() * (PACKET_MAX + 1) as f64) as usize;
+                let at: Vec<(f64, f64)> = (0..n)
+                    .map(|k| match k % 4 {
+                        0 => (unit() * h as f64, unit() * w as f64),
+                        1 => (
+                            (unit() - 0.5) * 4.0 * h as f64,
+                            (unit() - 0.5) * 4.0 * w as f64,
+                        ),
+                        2 => (h as f64, 0.0),
+                        _ => (0.0, w as f64 - 0.5),
+                    })
+                    .collect();
+                let mut out = vec![Ray::new(DVec3::ZERO, DVec3::Z); n];
+                c.rays(&at, &mut out);
+                for (&(i, j), got) in at.iter().zip(&out) {
+                    let want = c.ray(i, j);
+                    let bits = |r: &Ray| (r.origin.to_array(), r.dir.to_array().map(f64::to_bits));
+                    assert_eq!(bits(got), bits(&want), "{lens:?} {w}x{h} at ({i}, {j})");
+                }
             }
         }
     }

@@ -157,12 +157,15 @@ impl<'a> Frame<'a> {
 
     /// The camera ray of pixel (x, y) that `draws` says.
     fn ray_of(&self, x: u32, y: u32, Draws { fx, fy, disc }: Draws) -> Ray {
+        self.ray_at(self.image_position(x, y, fx, fy), disc)
+    }
+
+    /// The camera ray through image position (i, j), from point `disc` of
+    /// the lens if there is one (else the pinhole's).
+    fn ray_at(&self, (i, j): (f64, f64), disc: Option<(f64, f64)>) -> Ray {
         match disc {
-            None => self.ray(x, y, fx, fy),
-            Some(disc) => {
-                let (i, j) = self.image_position(x, y, fx, fy);
-                self.camera.lens_ray(i, j, disc)
-            }
+            None => self.camera.ray(i, j),
+            Some(disc) => self.camera.lens_ray(i, j, disc),
         }
     }
 
@@ -246,7 +249,7 @@ impl<'a> Frame<'a> {
         n: usize,
         sample_of: impl Fn(usize) -> (Ray, PathState),
         fresh: &O,
-        mut each: impl FnMut(usize, DVec3, &mut O, &RayCounts),
+        each: impl FnMut(usize, DVec3, &mut O, &RayCounts),
         hints: &mut ShadowHints,
     ) {
         debug_assert!(n <= PACKET_MAX);
@@ -257,11 +260,57 @@ impl<'a> Frame<'a> {
         for (k, (ray, st)) in camera.iter_mut().zip(&mut states).take(n).enumerate() {
             (*ray, *st) = sample_of(k);
         }
+        self.trace(&camera[..n], &mut states[..n], fresh, each, hints);
+    }
+
+    /// [`Frame::packet`] of the camera samples `sample_of(k)`: a pixel, the
+    /// sample's draws there and its random stream. Without a lens their
+    /// rays are made together, lane by lane ([`CameraRays::rays`]).
+    fn packet_of_draws<O: PathObserver + Clone>(
+        &self,
+        n: usize,
+        sample_of: impl Fn(usize) -> ((u32, u32), Draws, PathState),
+        fresh: &O,
+        each: impl FnMut(usize, DVec3, &mut O, &RayCounts),
+        hints: &mut ShadowHints,
+    ) {
+        debug_assert!(n <= PACKET_MAX);
+        let mut at = [(0.0, 0.0); PACKET_MAX];
+        let mut discs = [None; PACKET_MAX];
+        let mut states: [PathState; PACKET_MAX] =
+            std::array::from_fn(|_| PathState::new(Stream::new(0)));
+        for k in 0..n.min(PACKET_MAX) {
+            let ((x, y), Draws { fx, fy, disc }, st) = sample_of(k);
+            (at[k], discs[k], states[k]) = (self.image_position(x, y, fx, fy), disc, st);
+        }
+        let mut camera = [Ray::new(DVec3::ZERO, DVec3::Z); PACKET_MAX];
+        if discs[..n].iter().all(Option::is_none) {
+            self.camera.rays(&at[..n], &mut camera[..n]);
+        } else {
+            for k in 0..n {
+                camera[k] = self.ray_at(at[k], discs[k]);
+            }
+        }
+        self.trace(&camera[..n], &mut states[..n], fresh, each, hints);
+    }
+
+    /// Traces `camera` (at most [`PACKET_MAX`] rays) with the random
+    /// streams `states` as one packet, each ray watched by a copy of
+    /// `fresh`. Calls `each(k, colour, observer, rays)` in order.
+    fn trace<O: PathObserver + Clone>(
+        &self,
+        camera: &[Ray],
+        states: &mut [PathState],
+        fresh: &O,
+        mut each: impl FnMut(usize, DVec3, &mut O, &RayCounts),
+        hints: &mut ShadowHints,
+    ) {
+        let n = camera.len();
         let mut observers: [O; PACKET_MAX] = std::array::from_fn(|_| fresh.clone());
         let mut colors = [DVec3::ZERO; PACKET_MAX];
         self.integrator.trace_camera_packet(
-            &camera[..n],
-            &mut states[..n],
+            camera,
+            states,
             &mut observers[..n],
             &mut colors[..n],
             hints,
@@ -288,12 +337,12 @@ impl<'a> Frame<'a> {
         let mut sum = DVec3::ZERO;
         let n = self.refine_count();
         let key = self.pixel_key(x, y);
-        self.packet(
+        self.packet_of_draws(
             n,
             |k| {
                 let (fx, fy) = self.grid_offset(k);
                 let st = PathState::new(stream(key, 1 + k as u32));
-                (self.ray(x, y, fx, fy), st)
+                ((x, y), Draws { fx, fy, disc: None }, st)
             },
             fresh,
             |_, c, o, r| {
@@ -321,12 +370,17 @@ impl<'a> Frame<'a> {
         let w = xs.len();
         let pixel = |k: usize| (xs.start + (k % w) as u32, ys.start + (k / w) as u32);
         let n = w * ys.len();
-        self.packet(
+        self.packet_of_draws(
             n,
             |k| {
                 let (x, y) = pixel(k);
                 let st = PathState::new(stream(self.pixel_key(x, y), 0));
-                (self.ray(x, y, 0.5, 0.5), st)
+                let centre = Draws {
+                    fx: 0.5,
+                    fy: 0.5,
+                    disc: None,
+                };
+                ((x, y), centre, st)
             },
             fresh,
             |k, c, o, r| {
@@ -375,11 +429,11 @@ impl<'a> Frame<'a> {
                 *d = self.draw(rng.generator(), next.stratum, strata);
                 next.advance(self, &xs, n, strata.1);
             }
-            self.packet(
+            self.packet_of_draws(
                 len,
                 |k| {
                     let st = PathState::new(rngs[k].clone());
-                    (self.ray_of(at[k].x, at[k].y, draws[k]), st)
+                    ((at[k].x, at[k].y), draws[k], st)
                 },
                 fresh,
                 |k, c, o, r| {
