@@ -239,7 +239,7 @@ mod tests {
         };
         for lens in [Lens::Framework, Lens::Spanned, Lens::Corner, Lens::Hta] {
             for _ in 0..50 {
-                let mut v =
+                let v =
                     |unit: &mut dyn FnMut() -> f64| DVec3::new(unit(), unit(), unit()) * 2.0 - 1.0;
                 let cam = Camera {
                     origin: v(&mut unit) * 10.0,
