@@ -279,7 +279,7 @@ impl<'a> Frame<'a> {
         let mut discs = [None; PACKET_MAX];
         let mut states: [PathState; PACKET_MAX] =
             std::array::from_fn(|_| PathState::new(Stream::new(0)));
-        for k in 0..n.min(PACKET_MAX) {
+        for k in 0..n {
             let ((x, y), Draws { fx, fy, disc }, st) = sample_of(k);
             (at[k], discs[k], states[k]) = (self.image_position(x, y, fx, fy), disc, st);
         }
