@@ -153,31 +153,48 @@ impl<P: Primitive> Accel<P> {
         let mut t_best = t_max;
         tally.tests(self.unbounded.len());
         for &i in &self.unbounded {
-            self.test(i, ray, &mut best, &mut t_best);
+            self.test::<true>(i, ray, &mut best, &mut t_best);
         }
-        self.bvh
-            .traverse::<true>(None, ray, &mut t_best, self.isa, tally, |prims, t_best| {
+        self.bvh.traverse::<true>(
+            None,
+            ray,
+            &mut t_best,
+            self.isa,
+            tally,
+            #[inline(always)]
+            |prims, t_best| {
                 for &i in prims {
-                    self.test(i, ray, &mut best, t_best);
+                    self.test::<false>(i, ray, &mut best, t_best);
                 }
                 (false, prims.len())
-            });
+            },
+        );
         best
     }
 
     /// Tests object `i` against `ray`, keeping in `best` (at `t_best`) the
     /// nearer hit; of two at the same distance the lower index wins, so the
     /// answer does not depend on the order objects are tested in.
+    /// `UNBOUNDED`: as for [`Accel::hit`].
     #[inline(always)]
-    fn test(&self, i: u32, ray: &Ray, best: &mut Option<(u32, Hit)>, t_best: &mut f64) {
+    fn test<const UNBOUNDED: bool>(
+        &self,
+        i: u32,
+        ray: &Ray,
+        best: &mut Option<(u32, Hit)>,
+        t_best: &mut f64,
+    ) {
         let limit = match *best {
-            Some((b, _)) if i < b => t_best.next_up(),
+            // A hit's t lies in (t_min, t_max) with t_min ≥ 0: positive
+            // and finite, so its next float up is the next bit pattern
+            // (what `next_up` gives, without its branches for the rest).
+            Some((b, _)) if i < b => {
+                debug_assert!(*t_best > 0.0 && t_best.is_finite());
+                f64::from_bits(t_best.to_bits() + 1)
+            }
             _ => *t_best,
         };
-        if let Some(h) = self.objects[i as usize]
-            .shape()
-            .intersect(ray, ray.t_min, limit)
-        {
+        if let Some(h) = self.hit::<UNBOUNDED>(i, ray, limit) {
             *t_best = h.t;
             *best = Some((i, h));
         }
@@ -257,15 +274,14 @@ impl<P: Primitive> Accel<P> {
         hint: &mut Option<u32>,
         tally: &mut impl QueryTally,
     ) -> bool {
-        let blocks = |i: u32| self.blocks(i, ray, t_max, ignore_light);
         if let Some(i) = *hint {
             tally.tests(1);
-            if blocks(i) {
+            if self.blocks::<false>(i, ray, t_max, ignore_light) {
                 return true;
             }
         }
         // The unbounded ones in order, up to the first that blocks.
-        let found = self.unbounded.iter().position(|&i| blocks(i));
+        let found = self.first_blocker::<true>(&self.unbounded, ray, t_max, ignore_light);
         tally.tests(found.map_or(self.unbounded.len(), |k| k + 1));
         if let Some(k) = found {
             *hint = Some(self.unbounded[k]);
@@ -273,10 +289,13 @@ impl<P: Primitive> Accel<P> {
         }
         let mut blocker = None;
         let mut t_best = t_max;
-        let leaf = |prims: &[u32], _: &mut f64| {
-            let k = prims.iter().position(|&i| blocks(i));
-            blocker = k.map(|k| prims[k]);
-            (blocker.is_some(), k.map_or(prims.len(), |k| k + 1))
+        let leaf = {
+            #[inline(always)]
+            |prims: &[u32], _: &mut f64| {
+                let k = self.first_blocker::<false>(prims, ray, t_max, ignore_light);
+                blocker = k.map(|k| prims[k]);
+                (blocker.is_some(), k.map_or(prims.len(), |k| k + 1))
+            }
         };
         match walk {
             Walk::Up(from) => {
@@ -294,15 +313,50 @@ impl<P: Primitive> Accel<P> {
         blocker.is_some()
     }
 
-    /// Whether object `i` lies on the ray with `ray.t_min` < t < `t_max`
-    /// and is not the visible surface of light `ignore_light`.
+    /// The place in `objects` of the first that [`Accel::blocks`] the ray.
+    /// (A loop, not `position`: its closure was left out of line.)
     #[inline(always)]
-    fn blocks(&self, i: u32, ray: &Ray, t_max: f64, ignore_light: Option<u32>) -> bool {
-        !self.lights_own(i, ignore_light)
-            && self.objects[i as usize]
-                .shape()
-                .intersect(ray, ray.t_min, t_max)
-                .is_some()
+    fn first_blocker<const UNBOUNDED: bool>(
+        &self,
+        objects: &[u32],
+        ray: &Ray,
+        t_max: f64,
+        ignore_light: Option<u32>,
+    ) -> Option<usize> {
+        for (k, &i) in objects.iter().enumerate() {
+            if self.blocks::<UNBOUNDED>(i, ray, t_max, ignore_light) {
+                return Some(k);
+            }
+        }
+        None
+    }
+
+    /// Whether object `i` lies on the ray with `ray.t_min` < t < `t_max`
+    /// and is not the visible surface of light `ignore_light` (`UNBOUNDED`:
+    /// as for [`Accel::hit`]).
+    #[inline(always)]
+    fn blocks<const UNBOUNDED: bool>(
+        &self,
+        i: u32,
+        ray: &Ray,
+        t_max: f64,
+        ignore_light: Option<u32>,
+    ) -> bool {
+        !self.lights_own(i, ignore_light) && self.hit::<UNBOUNDED>(i, ray, t_max).is_some()
+    }
+
+    /// Object `i`'s hit by `ray` with `ray.t_min` < t < `t_max`. The
+    /// commonest kinds' tests are inlined here, where a call would cost as
+    /// much as the test: a plane's for `UNBOUNDED` (`i` one of the
+    /// unbounded objects, which every query tests), else a sphere's.
+    #[inline(always)]
+    fn hit<const UNBOUNDED: bool>(&self, i: u32, ray: &Ray, t_max: f64) -> Option<Hit> {
+        let shape = self.objects[i as usize].shape();
+        if UNBOUNDED {
+            shape.intersect_unbounded(ray, ray.t_min, t_max)
+        } else {
+            shape.intersect_bounded(ray, ray.t_min, t_max)
+        }
     }
 
     /// Whether object `i` is the visible surface of light `light` (never,

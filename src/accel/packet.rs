@@ -24,12 +24,12 @@ impl<P: Primitive> Accel<P> {
                     for (j, ray) in rays.iter().enumerate() {
                         out[j] = None;
                         for &i in &self.unbounded {
-                            self.test(i, ray, &mut out[j], &mut t_best[j]);
+                            self.test::<true>(i, ray, &mut out[j], &mut t_best[j]);
                         }
                     }
                     self.walk_packet(rays, &mut t_best, |j, prims, t| {
                         for &p in prims {
-                            self.test(p, &rays[j], &mut out[j], t);
+                            self.test::<false>(p, &rays[j], &mut out[j], t);
                         }
                     });
                 }

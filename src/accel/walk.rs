@@ -55,14 +55,21 @@ impl Bvh {
         if let [node] = &self.wide[..] {
             // One node, its children leaves (a scene of a few objects):
             // each entered in turn, none ordered, no stack.
-            tally.node();
-            let t = rb.entries(node, *t_best);
-            for k in (0..WIDTH).filter(|&k| node.count[k] > 0) {
-                let entered = t[k] != MISS && t[k] <= *t_best * FAR_SLACK;
-                if entered && self.visit(node.child[k], node.count[k], t_best, tally, &mut leaf) {
-                    return;
-                }
-            }
+            isa.run(
+                #[inline(always)]
+                || {
+                    tally.node();
+                    let t = rb.entries(node, *t_best);
+                    for k in (0..WIDTH).filter(|&k| node.count[k] > 0) {
+                        let entered = t[k] != MISS && t[k] <= *t_best * FAR_SLACK;
+                        if entered
+                            && self.visit(node.child[k], node.count[k], t_best, tally, &mut leaf)
+                        {
+                            return;
+                        }
+                    }
+                },
+            );
             return;
         }
         let start = from
@@ -96,7 +103,7 @@ impl Bvh {
         count: u32,
         t_best: &mut f64,
         tally: &mut impl QueryTally,
-        mut leaf: impl FnMut(&[u32], &mut f64) -> (bool, usize),
+        leaf: &mut impl FnMut(&[u32], &mut f64) -> (bool, usize),
     ) -> bool {
         tally.node();
         let s = start as usize;
@@ -116,7 +123,7 @@ impl Bvh {
         t_best: &mut f64,
         isa: Isa,
         tally: &mut impl QueryTally,
-        mut leaf: impl FnMut(&[u32], &mut f64) -> (bool, usize),
+        leaf: &mut impl FnMut(&[u32], &mut f64) -> (bool, usize),
     ) -> bool {
         let (n, k) = split_slot(slot);
         let node = &self.wide[n];
@@ -125,14 +132,12 @@ impl Bvh {
         }
         let (child, count) = (node.child[k], node.count[k]);
         if count > 0 {
-            self.visit(child, count, t_best, tally, &mut leaf)
+            self.visit(child, count, t_best, tally, leaf)
         } else {
             with_stack(
                 isa,
                 #[inline(always)]
-                |stack| {
-                    self.walk::<NEAREST>(rb, child as usize, WIDTH, t_best, stack, tally, &mut leaf)
-                },
+                |stack| self.walk::<NEAREST>(rb, child as usize, WIDTH, t_best, stack, tally, leaf),
             )
         }
     }
@@ -150,7 +155,7 @@ impl Bvh {
         t_best: &mut f64,
         stack: &mut Stack,
         tally: &mut impl QueryTally,
-        mut leaf: impl FnMut(&[u32], &mut f64) -> (bool, usize),
+        leaf: &mut impl FnMut(&[u32], &mut f64) -> (bool, usize),
     ) -> bool {
         let Stack { entry, t: stack_t } = stack;
         let mut sp = 0;
@@ -159,7 +164,7 @@ impl Bvh {
         let mut skip = skip;
         loop {
             if count > 0 {
-                if self.visit(child, count, t_best, tally, &mut leaf) {
+                if self.visit(child, count, t_best, tally, leaf) {
                     return true;
                 }
             } else {
@@ -352,18 +357,25 @@ thread_local! {
 /// would be zeroed (8 KiB) on every query, a large part of a shadow ray's cost.
 #[inline(always)]
 fn with_stack<R>(isa: Isa, f: impl FnOnce(&mut Stack) -> R) -> R {
-    STACK.with(|cell| {
-        let mut borrowed = cell.try_borrow_mut().ok();
-        // Only a query made from inside another query's leaf finds it
-        // borrowed, and takes a fresh one.
-        let mut fresh = None;
-        let stack = match borrowed.as_deref_mut() {
-            Some(stack) => stack,
-            None => fresh.insert(Stack::EMPTY),
-        };
-        isa.run(
+    STACK.with(|cell| match cell.try_borrow_mut() {
+        Ok(mut stack) => isa.run(
             #[inline(always)]
-            || f(stack),
-        )
+            || f(&mut stack),
+        ),
+        // Only a query made from inside another query's leaf finds it
+        // borrowed.
+        Err(_) => with_fresh_stack(isa, f),
     })
+}
+
+/// [`with_stack`] with a fresh stack, out of line: the 8 KiB stays out of
+/// the frame of every query that does not need it.
+#[cold]
+#[inline(never)]
+fn with_fresh_stack<R>(isa: Isa, f: impl FnOnce(&mut Stack) -> R) -> R {
+    let mut stack = Stack::EMPTY;
+    isa.run(
+        #[inline(always)]
+        || f(&mut stack),
+    )
 }

@@ -47,6 +47,26 @@ impl Shape {
         }
     }
 
+    /// [`Shape::intersect`] with a plane's test inlined at the call: the
+    /// unbounded kind, which every query tests, where a call costs as much
+    /// as the test.
+    #[inline(always)]
+    pub fn intersect_unbounded(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
+        match self {
+            Shape::Plane(p) => p.intersect(ray, t_min, t_max),
+            _ => self.intersect(ray, t_min, t_max),
+        }
+    }
+
+    /// [`Shape::intersect`] with a sphere's test inlined at the call.
+    #[inline(always)]
+    pub fn intersect_bounded(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
+        match self {
+            Shape::Sphere(s) => s.intersect(ray, t_min, t_max),
+            _ => self.intersect(ray, t_min, t_max),
+        }
+    }
+
     /// Finishes a hit returned by [`Shape::intersect`] for the same ray.
     #[inline]
     pub fn surface(&self, ray: &Ray, hit: &Hit) -> SurfacePoint {

@@ -84,6 +84,8 @@ impl Light {
     /// rays towards this light that `reaches(unit direction, distance to
     /// the light)` lets through. A point light takes one ray; an area light
     /// `samples` (see [`Light::for_each_sample`]). Returns s and the number of rays.
+    /// (A point light's one ray is inlined at the call: the whole term.)
+    #[inline(always)]
     pub(crate) fn shade(
         &self,
         origin: DVec3,
@@ -98,6 +100,19 @@ impl Light {
                 let blocked = dist > 0.0 && !reaches(to / dist, dist);
                 (if blocked { 0.0 } else { 1.0 }, 1)
             }
+            _ => self.shade_area(origin, samples, rng, reaches),
+        }
+    }
+
+    /// [`Light::shade`] for an area light.
+    fn shade_area(
+        &self,
+        origin: DVec3,
+        samples: u32,
+        rng: &mut impl RandomSource,
+        mut reaches: impl FnMut(DVec3, f64) -> bool,
+    ) -> (f64, u64) {
+        match self.kind {
             LightKind::Sphere { center, radius }
                 if (center - origin).length_squared() <= radius * radius =>
             {
