@@ -289,6 +289,7 @@ impl<P: Primitive> Accel<P> {
         }
         let mut blocker = None;
         let mut t_best = t_max;
+        // A block only so the closure may carry `#[inline(always)]`.
         let leaf = {
             #[inline(always)]
             |prims: &[u32], _: &mut f64| {
@@ -347,8 +348,9 @@ impl<P: Primitive> Accel<P> {
 
     /// Object `i`'s hit by `ray` with `ray.t_min` < t < `t_max`. The
     /// commonest kinds' tests are inlined here, where a call would cost as
-    /// much as the test: a plane's for `UNBOUNDED` (`i` one of the
-    /// unbounded objects, which every query tests), else a sphere's.
+    /// much as the test: a plane's for `UNBOUNDED` (the loops over the
+    /// unbounded objects, which every query tests), else a sphere's (any
+    /// object: the others' tests are called).
     #[inline(always)]
     fn hit<const UNBOUNDED: bool>(&self, i: u32, ray: &Ray, t_max: f64) -> Option<Hit> {
         let shape = self.objects[i as usize].shape();

@@ -54,7 +54,8 @@ impl Bvh {
         }
         if let [node] = &self.wide[..] {
             // One node, its children leaves (a scene of a few objects):
-            // each entered in turn, none ordered, no stack.
+            // each entered in turn, none ordered, no stack; compiled for
+            // `isa` like the deeper walks.
             isa.run(
                 #[inline(always)]
                 || {

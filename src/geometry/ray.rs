@@ -10,7 +10,8 @@ pub struct Ray {
     pub origin: DVec3,
     /// Unit direction.
     pub dir: DVec3,
-    /// Hits at distances up to this are not reported (0 for a free ray).
+    /// Hits at distances up to this are not reported (0 for a free ray);
+    /// never negative, so every hit's distance is positive.
     pub t_min: f64,
 }
 

@@ -84,7 +84,7 @@ impl Light {
     /// rays towards this light that `reaches(unit direction, distance to
     /// the light)` lets through. A point light takes one ray; an area light
     /// `samples` (see [`Light::for_each_sample`]). Returns s and the number of rays.
-    /// (A point light's one ray is inlined at the call: the whole term.)
+    /// (Inlined, with a point light's one ray; area lights in [`Light::shade_area`].)
     #[inline(always)]
     pub(crate) fn shade(
         &self,
@@ -104,7 +104,7 @@ impl Light {
         }
     }
 
-    /// [`Light::shade`] for an area light.
+    /// [`Light::shade`] for an area light (never a point light).
     fn shade_area(
         &self,
         origin: DVec3,
