@@ -255,7 +255,11 @@ impl<'p> Builder<'p> {
             return;
         };
         if m.normal_map.is_some()
-            && let Some(shape) = built.shapes.iter().find(|s| !s.takes_normal_map())
+            && let Some(shape) = built
+                .shapes
+                .as_slice()
+                .iter()
+                .find(|s| !s.takes_normal_map())
         {
             let site = b.fields.text("NT").map_or(b.header, |(_, s)| s);
             let kind = shape.kind_name();

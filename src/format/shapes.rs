@@ -34,12 +34,50 @@ pub(crate) type Shapes = Option<Built>;
 /// Adds a decoded texture to the scene and gives its index.
 pub(crate) type AddTexture<'a> = dyn FnMut(Texture) -> u32 + 'a;
 
+/// The shapes of one block, in file order: most blocks make one, held
+/// without an allocation (a million-sphere file makes a million).
+pub(crate) enum ShapeList {
+    /// A block's one shape.
+    One(Shape),
+    /// Any number of them (a mesh, a tetrahedron, a Bézier's pieces).
+    Many(Vec<Shape>),
+}
+
+impl Default for ShapeList {
+    fn default() -> Self {
+        ShapeList::Many(Vec::new())
+    }
+}
+
+impl ShapeList {
+    /// The shapes, in file order.
+    pub(crate) fn as_slice(&self) -> &[Shape] {
+        match self {
+            ShapeList::One(shape) => std::slice::from_ref(shape),
+            ShapeList::Many(shapes) => shapes,
+        }
+    }
+}
+
+impl IntoIterator for ShapeList {
+    type Item = Shape;
+    type IntoIter = std::iter::Chain<std::option::IntoIter<Shape>, std::vec::IntoIter<Shape>>;
+
+    fn into_iter(self) -> Self::IntoIter {
+        let (one, many) = match self {
+            ShapeList::One(shape) => (Some(shape), Vec::new()),
+            ShapeList::Many(shapes) => (None, shapes),
+        };
+        one.into_iter().chain(many)
+    }
+}
+
 /// The shapes of one primitive block, and the materials some of them have
 /// in place of the block's (a polyhedron's `usemtl` faces).
 #[derive(Default)]
 pub(crate) struct Built {
     /// The shapes, in file order.
-    pub shapes: Vec<Shape>,
+    pub shapes: ShapeList,
     /// Materials of their own, each to be added to the scene once.
     pub materials: Vec<Material>,
     /// Per shape, the index in `materials` of its own material; empty when
@@ -51,14 +89,17 @@ impl Built {
     /// Shapes that all have the block's material.
     pub(crate) fn of(shapes: Vec<Shape>) -> Shapes {
         Some(Built {
-            shapes,
+            shapes: ShapeList::Many(shapes),
             ..Built::default()
         })
     }
 
     /// One shape with the block's material.
     pub(crate) fn one(shape: Shape) -> Shapes {
-        Built::of(vec![shape])
+        Some(Built {
+            shapes: ShapeList::One(shape),
+            ..Built::default()
+        })
     }
 
     /// Nothing: a block glint skips (after warning).
@@ -547,11 +588,13 @@ pub(crate) fn polyhedron(
         Vec::new()
     };
     Some(Built {
-        shapes: loaded
-            .triangles
-            .into_iter()
-            .map(|t| Shape::Triangle(Box::new(t)))
-            .collect(),
+        shapes: ShapeList::Many(
+            loaded
+                .triangles
+                .into_iter()
+                .map(|t| Shape::Triangle(Box::new(t)))
+                .collect(),
+        ),
         materials,
         material_of,
     })
