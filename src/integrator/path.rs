@@ -5,7 +5,6 @@ use crate::accel::{Accel, Primitive};
 use crate::geometry::Shape;
 use crate::sampling::RandomSource;
 use crate::scene::Object;
-use rand::SeedableRng;
 use rand_pcg::Pcg32;
 
 /// The acceleration structure over a scene's objects.
@@ -90,8 +89,44 @@ impl RandomSource for Stream {
     #[inline(always)]
     fn generator(&mut self) -> &mut Pcg32 {
         let seed = self.seed;
-        self.rng.get_or_insert_with(|| Pcg32::seed_from_u64(seed))
+        self.rng.get_or_insert_with(|| seeded(seed))
     }
+}
+
+/// The multiplier and increment of the PCG32 that rand_core's
+/// `seed_from_u64` draws a seed with.
+const SEED_MUL: u64 = 6364136223846793005;
+const SEED_INC: u64 = 11634580027462260723;
+
+/// (a, c) such that k steps of x → x·M + I (wrapping) are x → x·a + c.
+const fn steps(k: u32) -> (u64, u64) {
+    let (mut a, mut c, mut i) = (1u64, 0u64, 0);
+    while i < k {
+        a = a.wrapping_mul(SEED_MUL);
+        c = c.wrapping_mul(SEED_MUL).wrapping_add(SEED_INC);
+        i += 1;
+    }
+    (a, c)
+}
+
+/// The four states rand_core's seeding PCG32 passes through, as powers.
+const SEED_STEPS: [(u64, u64); 4] = [steps(1), steps(2), steps(3), steps(4)];
+
+/// `Pcg32::seed_from_u64(seed)`, bit for bit, with the seeding PCG32's
+/// four states computed side by side rather than one after another (a
+/// sample's stream is seeded on the render's critical path).
+#[inline(always)]
+fn seeded(seed: u64) -> Pcg32 {
+    // PCG32's output of a state (rand_core's `seed_from_u64`).
+    let out =
+        |state: u64| ((((state >> 18) ^ state) >> 27) as u32).rotate_right((state >> 59) as u32);
+    let x = SEED_STEPS.map(|(a, c)| out(seed.wrapping_mul(a).wrapping_add(c)));
+    // The 16 seed bytes are the four outputs little-endian, read back as
+    // two u64: the state, and the increment with its low bit set, which
+    // `Pcg32::new` makes of `stream` as (stream << 1) | 1.
+    let state = u64::from(x[0]) | u64::from(x[1]) << 32;
+    let increment = u64::from(x[2]) | u64::from(x[3]) << 32;
+    Pcg32::new(state, increment >> 1)
 }
 
 #[cfg(test)]
@@ -100,7 +135,31 @@ mod tests {
     use rand::Rng;
 
     #[test]
+    fn streams_are_seeded_as_seed_from_u64_seeds() {
+        use rand::SeedableRng;
+        let mut seeds = Pcg32::seed_from_u64(17);
+        let special = [
+            0,
+            1,
+            2,
+            u64::MAX,
+            u64::MAX - 1,
+            1 << 63,
+            0x9e37_79b9_7f4a_7c15,
+        ];
+        let random = (0..10_000).map(|_| seeds.random::<u64>());
+        for seed in special.into_iter().chain(random) {
+            let mut ours = seeded(seed);
+            let mut theirs = Pcg32::seed_from_u64(seed);
+            for _ in 0..4 {
+                assert_eq!(ours.random::<u64>(), theirs.random::<u64>(), "seed {seed}");
+            }
+        }
+    }
+
+    #[test]
     fn a_stream_draws_as_its_generator_seeded_up_front() {
+        use rand::SeedableRng;
         for seed in [0, 1, 0x9e37_79b9_7f4a_7c15, u64::MAX] {
             let mut eager = Pcg32::seed_from_u64(seed);
             let mut lazy = Stream::new(seed);
