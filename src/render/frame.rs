@@ -413,8 +413,9 @@ impl<'a> Frame<'a> {
         // into the next.
         let mut next = Cursor::new(self, xs.start, ys.start);
         let mut at = [next; PACKET_MAX];
-        // A packet's draws are made for all its samples first, then its
-        // rays: two short loops whose samples overlap in the CPU.
+        // A packet's streams are seeded for all its samples first, then
+        // their draws made, then their rays: short loops whose samples
+        // overlap in the CPU (each sample's steps form a chain).
         let mut rngs: [Stream; PACKET_MAX] = std::array::from_fn(|_| Stream::new(0));
         let mut draws = [Draws::default(); PACKET_MAX];
         let mut sum = DVec3::ZERO;
@@ -423,11 +424,14 @@ impl<'a> Frame<'a> {
         while start < total {
             let len = (total - start).min(PACKET_MAX as u64);
             let len = len as usize;
-            for ((a, rng), d) in at.iter_mut().zip(&mut rngs).zip(&mut draws).take(len) {
+            for (a, rng) in at.iter_mut().zip(&mut rngs).take(len) {
                 *a = next;
                 *rng = stream(next.key, next.s);
-                *d = self.draw(rng.generator(), next.stratum, strata);
+                rng.generator();
                 next.advance(self, &xs, n, strata.1);
+            }
+            for ((a, rng), d) in at.iter().zip(&mut rngs).zip(&mut draws).take(len) {
+                *d = self.draw(rng.generator(), a.stratum, strata);
             }
             self.packet_of_draws(
                 len,
