@@ -93,9 +93,10 @@ impl RandomSource for Stream {
     }
 }
 
-/// The multiplier and increment of the PCG32 that rand_core's
-/// `seed_from_u64` draws a seed with.
+/// The multiplier of the PCG32 that rand_core's `seed_from_u64` draws a
+/// seed with.
 const SEED_MUL: u64 = 6364136223846793005;
+/// The increment of that PCG32.
 const SEED_INC: u64 = 11634580027462260723;
 
 /// (a, c) such that k steps of x → x·M + I (wrapping) are x → x·a + c.
@@ -109,12 +110,14 @@ const fn steps(k: u32) -> (u64, u64) {
     (a, c)
 }
 
-/// The four states rand_core's seeding PCG32 passes through, as powers.
+/// The (a, c) of steps 1 to 4: the four states rand_core's seeding PCG32
+/// passes through are the seed times a, plus c.
 const SEED_STEPS: [(u64, u64); 4] = [steps(1), steps(2), steps(3), steps(4)];
 
-/// `Pcg32::seed_from_u64(seed)`, bit for bit, with the seeding PCG32's
-/// four states computed side by side rather than one after another (a
-/// sample's stream is seeded on the render's critical path).
+/// `Pcg32::seed_from_u64(seed)`, bit for bit (a test pins it to
+/// rand_core's). rand_core makes the seed with four dependent 64-bit
+/// multiply steps on every sample's path; here they are independent, which
+/// took the bunny at 16 spp on one thread from 0.756 to 0.715 s.
 #[inline(always)]
 fn seeded(seed: u64) -> Pcg32 {
     // PCG32's output of a state (rand_core's `seed_from_u64`).
@@ -149,11 +152,8 @@ mod tests {
         ];
         let random = (0..10_000).map(|_| seeds.random::<u64>());
         for seed in special.into_iter().chain(random) {
-            let mut ours = seeded(seed);
-            let mut theirs = Pcg32::seed_from_u64(seed);
-            for _ in 0..4 {
-                assert_eq!(ours.random::<u64>(), theirs.random::<u64>(), "seed {seed}");
-            }
+            // The generators' states and increments, compared exactly.
+            assert_eq!(seeded(seed), Pcg32::seed_from_u64(seed), "seed {seed}");
         }
     }
 

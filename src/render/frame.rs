@@ -427,11 +427,8 @@ impl<'a> Frame<'a> {
             for (a, rng) in at.iter_mut().zip(&mut rngs).take(len) {
                 *a = next;
                 *rng = stream(next.key, next.s);
-                // Seeded here when `draw` will draw from it (a jitter, or a
-                // lens's point): never otherwise.
-                if !self.centred || self.camera.has_lens() {
-                    rng.generator();
-                }
+                // Seeded here, as `draw` below would seed it anyway.
+                rng.generator();
                 next.advance(self, &xs, n, strata.1);
             }
             for ((a, rng), d) in at.iter().zip(&mut rngs).zip(&mut draws).take(len) {
