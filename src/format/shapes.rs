@@ -35,7 +35,7 @@ pub(crate) type Shapes = Option<Built>;
 pub(crate) type AddTexture<'a> = dyn FnMut(Texture) -> u32 + 'a;
 
 /// The shapes of one block, in file order: most blocks make one, held
-/// without an allocation (a million-sphere file makes a million).
+/// without an allocation (one saved per block).
 pub(crate) enum ShapeList {
     /// A block's one shape.
     One(Shape),
