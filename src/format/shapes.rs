@@ -88,16 +88,18 @@ pub(crate) struct Built {
 impl Built {
     /// Shapes that all have the block's material.
     pub(crate) fn of(shapes: Vec<Shape>) -> Shapes {
-        Some(Built {
-            shapes: ShapeList::Many(shapes),
-            ..Built::default()
-        })
+        Built::with(ShapeList::Many(shapes))
     }
 
     /// One shape with the block's material.
     pub(crate) fn one(shape: Shape) -> Shapes {
+        Built::with(ShapeList::One(shape))
+    }
+
+    /// `shapes`, all with the block's material.
+    fn with(shapes: ShapeList) -> Shapes {
         Some(Built {
-            shapes: ShapeList::One(shape),
+            shapes,
             ..Built::default()
         })
     }
