@@ -209,8 +209,9 @@ impl<P: Primitive> Accel<P> {
 
     /// [`Accel::occluded`] for a ray leaving the surface of object `from`
     /// (if known), whose neighbours are tried first, and trying the object
-    /// in `hint` before all, leaving in it the blocker found: the shadow
-    /// rays of one point towards one area light mostly meet the same one.
+    /// in `hint` before all, leaving in it the blocker found, or none when
+    /// the ray gets through: the shadow rays of one point towards one area
+    /// light, and of neighbouring points, mostly meet the same one, or none.
     /// Its nodes and tests are counted into `tally`.
     pub fn occluded_hinted(
         &self,
@@ -308,9 +309,9 @@ impl<P: Primitive> Accel<P> {
                     .traverse_within::<false>(roots, ray, &mut t_best, self.isa, tally, leaf)
             }
         }
-        if blocker.is_some() {
-            *hint = blocker;
-        }
+        // A ray that gets through forgets the guess: the rays after it
+        // (mostly its neighbours) get through too, and would each pay a test.
+        *hint = blocker;
         blocker.is_some()
     }
 

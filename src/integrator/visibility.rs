@@ -10,10 +10,11 @@ use glam::DVec3;
 /// Slots of [`ShadowHints`].
 const HINT_SLOTS: usize = 8;
 
-/// Per light (slot: its index modulo 8), the object that last
-/// blocked a shadow ray towards it, tried first by the next one: shadow rays
-/// from nearby points mostly meet the same blocker. A stale guess, or a slot
-/// shared by two lights, costs one test; the answers never depend on it.
+/// Per light (slot: its index modulo 8), the object that blocked the last
+/// shadow ray towards it (none if that ray got through), tried first by the
+/// next one: shadow rays from nearby points mostly meet the same blocker, or
+/// none. A stale guess, or a slot shared by two lights, costs one test; the
+/// answers never depend on it.
 pub(crate) type ShadowHints = [Option<u32>; HINT_SLOTS];
 
 /// Where shadow rays start.

@@ -258,13 +258,17 @@ fn check_queries(accel: &Accel<Object>, objects: &[Object], rays: usize, half: f
                         let got =
                             accel.occluded_hinted(&shadow, t_max, ignore, Some(i), hint, &mut ());
                         assert_eq!(got, want, "ray {n}: shadow {shadow:?} hinted");
-                        // A blocked ray leaves its blocker in the hint.
-                        let b = hint.filter(|_| got).map(|b| &objects[b as usize]);
-                        if let Some(o) = b {
-                            assert!(
-                                blocks(o, &shadow, shadow.t_min, t_max, ignore),
+                        // A blocked ray leaves its blocker in the hint; one
+                        // that gets through leaves none.
+                        match *hint {
+                            Some(b) if got => assert!(
+                                blocks(&objects[b as usize], &shadow, shadow.t_min, t_max, ignore),
                                 "ray {n}: the hint left is no blocker"
-                            );
+                            ),
+                            left => assert!(
+                                !got && left.is_none(),
+                                "ray {n}: blocked {got}, hint left {left:?}"
+                            ),
                         }
                     }
                     shadows += 1;
