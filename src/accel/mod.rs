@@ -209,10 +209,8 @@ impl<P: Primitive> Accel<P> {
 
     /// [`Accel::occluded`] for a ray leaving the surface of object `from`
     /// (if known), whose neighbours are tried first, and trying the object
-    /// in `hint` before all, leaving in it the blocker found, or none when
-    /// the ray gets through: the shadow rays of one point towards one area
-    /// light, and of neighbouring points, mostly meet the same one, or none.
-    /// Its nodes and tests are counted into `tally`.
+    /// in `hint` before all, leaving in it the blocker found, or none if the
+    /// ray gets through. Its nodes and tests are counted into `tally`.
     pub fn occluded_hinted(
         &self,
         ray: &Ray,

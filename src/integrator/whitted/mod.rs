@@ -54,7 +54,7 @@ pub(crate) struct PathContext<'p, O> {
     pub st: &'p mut PathState,
     /// What watches its rays.
     pub obs: &'p mut O,
-    /// The blockers the worker's shadow rays met last.
+    /// What each light's last shadow ray on this worker met (its blocker, or none).
     pub hints: &'p mut ShadowHints,
 }
 
