@@ -1003,6 +1003,13 @@ fn check_shadow_reach(objects: &[Object], points: usize, seed: u64) -> (usize, u
                 got, want,
                 "point {n}: {shadow:?} to {q}, ignoring {ignore:?}"
             );
+            // The hint left: a blocker of this ray, or none if it got through.
+            let left = hint.map(|b| &objects[b as usize]);
+            assert_eq!(
+                left.map(|o| blocks(o, &shadow, shadow.t_min, dist, ignore)),
+                want.then_some(true),
+                "point {n}: hint left {hint:?}"
+            );
             if want {
                 blocked += 1;
             } else {
