@@ -32,6 +32,21 @@ fn blocks(o: &Object, ray: &Ray, t_min: f64, t_max: f64, ignore: Option<u32>) ->
     !skip && o.shape.intersect(ray, t_min, t_max).is_some()
 }
 
+/// Whether `hint` is what an any-hit query of `ray` (up to `t_max`) that
+/// answered `blocked` must leave: a blocker of the ray, or none if it got
+/// through.
+fn hint_left_right(
+    objects: &[Object],
+    hint: Option<u32>,
+    ray: &Ray,
+    t_max: f64,
+    ignore: Option<u32>,
+    blocked: bool,
+) -> bool {
+    let left = hint.map(|b| blocks(&objects[b as usize], ray, ray.t_min, t_max, ignore));
+    left == blocked.then_some(true)
+}
+
 /// The reference any-hit query.
 fn brute_occluded(objects: &[Object], ray: &Ray, t_max: f64, ignore_light: Option<u32>) -> bool {
     objects
@@ -260,16 +275,10 @@ fn check_queries(accel: &Accel<Object>, objects: &[Object], rays: usize, half: f
                         assert_eq!(got, want, "ray {n}: shadow {shadow:?} hinted");
                         // A blocked ray leaves its blocker in the hint; one
                         // that gets through leaves none.
-                        match *hint {
-                            Some(b) if got => assert!(
-                                blocks(&objects[b as usize], &shadow, shadow.t_min, t_max, ignore),
-                                "ray {n}: the hint left is no blocker"
-                            ),
-                            left => assert!(
-                                !got && left.is_none(),
-                                "ray {n}: blocked {got}, hint left {left:?}"
-                            ),
-                        }
+                        assert!(
+                            hint_left_right(objects, *hint, &shadow, t_max, ignore, got),
+                            "ray {n}: blocked {got}, hint left {hint:?}"
+                        );
                     }
                     shadows += 1;
                     blocked += want as usize;
@@ -1003,12 +1012,9 @@ fn check_shadow_reach(objects: &[Object], points: usize, seed: u64) -> (usize, u
                 got, want,
                 "point {n}: {shadow:?} to {q}, ignoring {ignore:?}"
             );
-            // The hint left: a blocker of this ray, or none if it got through.
-            let left = hint.map(|b| &objects[b as usize]);
-            assert_eq!(
-                left.map(|o| blocks(o, &shadow, shadow.t_min, dist, ignore)),
-                want.then_some(true),
-                "point {n}: hint left {hint:?}"
+            assert!(
+                hint_left_right(objects, hint, &shadow, dist, ignore, got),
+                "point {n}: blocked {got}, hint left {hint:?}"
             );
             if want {
                 blocked += 1;
