@@ -8,14 +8,14 @@ use super::node::{EMPTY, Item, Node, Pair, half_area, union};
 use super::walk::STACK_SIZE;
 
 /// Bins on a node's split axis for the surface area heuristic.
-const BINS: usize = 16;
+pub(super) const BINS: usize = 16;
 /// Leaves never hold more primitives than this.
 pub(super) const MAX_LEAF: usize = 8;
 // The build's first pass keeps leaf sizes in a byte.
 const _: () = assert!(MAX_LEAF <= u8::MAX as usize);
 /// Cost of visiting an interior node (two box tests), relative to one
 /// primitive test.
-const TRAVERSAL_COST: f64 = 1.5;
+pub(super) const TRAVERSAL_COST: f64 = 1.5;
 /// Below this depth splits follow the SAH; deeper ones split at the median,
 /// which bounds the depth (and so the traversal stack) for any input.
 pub(super) const SAH_MAX_DEPTH: usize = 48;
@@ -308,39 +308,51 @@ pub(super) fn split(
             union(&mut bin.bounds, &it.bounds);
             bin.count += 1;
         }
-        // Cost (half area x count of both sides) of splitting after bin i.
-        // The sides' boxes are kept: the union of their bins' is that of their items'.
-        let mut best: Option<(f64, usize, [f32; 6])> = None;
+        // The bins that hold items, in order. A split after an empty bin
+        // parts the items as the split after the last bin before it that
+        // holds some, at the same cost, and is weighed after it: only splits
+        // after bins that hold items can be chosen.
+        let mut held = [0u8; BINS];
+        let mut m = 0;
+        for (i, bin) in bins[..bins_used].iter().enumerate() {
+            held[m] = i as u8;
+            m += usize::from(bin.count > 0);
+        }
+        // Cost (half area x count of both sides) of splitting after held
+        // bin r. The sides' boxes are kept: the union of their bins' is
+        // that of their items'.
         let mut right_cost = [0f64; BINS];
-        let mut right_count = [0u32; BINS];
-        let mut right_bounds = [EMPTY; BINS];
         let mut acc = EMPTY;
         let mut count = 0;
-        for i in (1..bins_used).rev() {
-            union(&mut acc, &bins[i].bounds);
-            count += bins[i].count;
-            right_cost[i] = half_area(&acc) * count as f64;
-            right_count[i] = count;
-            right_bounds[i] = acc;
+        for r in (1..m).rev() {
+            let bin = &bins[held[r] as usize];
+            union(&mut acc, &bin.bounds);
+            count += bin.count;
+            right_cost[r] = half_area(&acc) * count as f64;
         }
+        let mut best: Option<(f64, usize, [f32; 6])> = None;
         let mut acc = EMPTY;
         let mut count = 0;
-        for i in 0..bins_used - 1 {
-            union(&mut acc, &bins[i].bounds);
-            count += bins[i].count;
-            if count == 0 || right_count[i + 1] == 0 {
-                continue;
-            }
-            let cost = half_area(&acc) * count as f64 + right_cost[i + 1];
+        for r in 0..m.saturating_sub(1) {
+            let bin = &bins[held[r] as usize];
+            union(&mut acc, &bin.bounds);
+            count += bin.count;
+            let cost = half_area(&acc) * count as f64 + right_cost[r + 1];
             if best.is_none_or(|(c, _, _)| cost < c) {
-                best = Some((cost, i, acc));
+                best = Some((cost, r, acc));
             }
         }
-        if let Some((cost, i, left_bounds)) = best {
+        if let Some((cost, r, left_bounds)) = best {
             let area = half_area(&ext.bounds);
             let split_pays = TRAVERSAL_COST * area + cost < n as f64 * area;
             if !split_pays && n <= MAX_LEAF {
                 return None;
+            }
+            let i = held[r] as usize;
+            // The right side's box, as the sweep above made it.
+            let mut right_bounds = EMPTY;
+            for &j in held[r + 1..m].iter().rev() {
+                union(&mut right_bounds, &bins[j as usize].bounds);
             }
             // Both sides are non-empty: the counts above came from the same bin_of.
             let mut left = Extents {
@@ -348,7 +360,7 @@ pub(super) fn split(
                 cent: EMPTY,
             };
             let mut right = Extents {
-                bounds: right_bounds[i + 1],
+                bounds: right_bounds,
                 cent: EMPTY,
             };
             // Hoare's partition: each item is read once, and only pairs on

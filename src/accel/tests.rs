@@ -1,10 +1,12 @@
 //! The BVH's build, layout and walks against brute force and hand cases.
 
-use super::build::{Extents, MAX_LEAF, PARALLEL_MIN, SAH_MAX_DEPTH, split};
+use super::build::{BINS, Extents, MAX_LEAF, PARALLEL_MIN, SAH_MAX_DEPTH, TRAVERSAL_COST, split};
 use super::bvh::{Binary, Bvh, NO_LEAF, ROOT, split_slot};
 use super::hull::Hull;
 use super::isa::Isa;
-use super::node::{Item, NO_CHILD, Node, Pair, WIDTH, Wide, f32_down, f32_up};
+use super::node::{
+    EMPTY, Item, NO_CHILD, Node, Pair, WIDTH, Wide, f32_down, f32_up, half_area, union,
+};
 use super::ray_box::{MISS, RayBox};
 use super::walk::STACK_SIZE;
 use crate::accel::QueryCost;
@@ -394,6 +396,112 @@ fn same_tree_on_one_or_two_threads() -> Result<(), rayon::ThreadPoolBuildError> 
     let depth = depth_and_coverage(&a, items.len());
     assert!(depth < 40, "depth {depth}");
     Ok(())
+}
+
+/// The split the surface area heuristic asks for, weighed from the items
+/// themselves at every bin boundary (empty bins included): the first
+/// cheapest boundary's left items, and both sides' boxes; `None` for a
+/// leaf. Nodes whose centroids coincide are left out (they split at the median).
+fn cheapest_split(items: &[Item]) -> Option<(Vec<u32>, [f32; 6], [f32; 6])> {
+    let n = items.len();
+    let cent = |it: &Item, a: usize| it.bounds[a] * 0.5 + it.bounds[a + 3] * 0.5;
+    let extent = |a: usize| {
+        let (lo, hi) = items
+            .iter()
+            .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), it| {
+                (lo.min(cent(it, a)), hi.max(cent(it, a)))
+            });
+        (lo, hi - lo)
+    };
+    // The widest axis, the first of equals.
+    let axis = (1..3).fold(0, |best, a| {
+        if extent(a).1 > extent(best).1 {
+            a
+        } else {
+            best
+        }
+    });
+    let (cmin, width) = extent(axis);
+    assert!(width > 0.0);
+    // The build's bins: a centroid's bin index as it computes it.
+    let bins = n.clamp(4, BINS);
+    let scale = 0.5 * bins as f32 / width;
+    let shift = cmin * (2.0 * scale);
+    let bin_of = |it: &Item| {
+        let k = (it.bounds[axis] + it.bounds[axis + 3]) * scale - shift;
+        (k as i32).clamp(0, bins as i32 - 1) as usize
+    };
+    let side_box = |side: &[&Item]| {
+        let mut b = EMPTY;
+        side.iter().for_each(|it| union(&mut b, &it.bounds));
+        b
+    };
+    let mut best: Option<(f64, Vec<&Item>, Vec<&Item>)> = None;
+    for i in 0..bins - 1 {
+        let (left, right): (Vec<&Item>, Vec<&Item>) = items.iter().partition(|it| bin_of(it) <= i);
+        if left.is_empty() || right.is_empty() {
+            continue;
+        }
+        let cost = half_area(&side_box(&left)) * left.len() as f64
+            + half_area(&side_box(&right)) * right.len() as f64;
+        if best.as_ref().is_none_or(|(c, _, _)| cost < *c) {
+            best = Some((cost, left, right));
+        }
+    }
+    let (cost, left, right) = best?;
+    let area = half_area(&side_box(&items.iter().collect::<Vec<_>>()));
+    if TRAVERSAL_COST * area + cost >= n as f64 * area && n <= MAX_LEAF {
+        return None;
+    }
+    let mut ids: Vec<u32> = left.iter().map(|it| it.index()).collect();
+    ids.sort_unstable();
+    Some((ids, side_box(&left), side_box(&right)))
+}
+
+#[test]
+fn split_takes_the_cheapest_bin_boundary() {
+    let mut rng = rand_pcg::Pcg64::seed_from_u64(47);
+    let (mut splits, mut leaves) = (0, 0);
+    for case in 0..4000 {
+        // Items in a few tight clusters, so that most bins stay empty, of
+        // boxes from slivers to large.
+        let n = if case % 2 == 0 {
+            rng.random_range(2..=MAX_LEAF)
+        } else {
+            rng.random_range(2..=70)
+        };
+        let clusters: Vec<DVec3> = (0..rng.random_range(1..=4))
+            .map(|_| DVec3::new(rng.random(), rng.random(), rng.random()) * 50.0)
+            .collect();
+        let spread = [1e-3, 0.1, 5.0][case % 3];
+        let items: Vec<Item> = (0..n)
+            .filter_map(|i| {
+                let c = clusters[rng.random_range(0..clusters.len())]
+                    + DVec3::new(rng.random(), rng.random(), rng.random()) * spread;
+                let h = DVec3::new(rng.random(), rng.random(), rng.random())
+                    * 10f64.powf(rng.random_range(-3.0..0.5));
+                Item::new(i as u32, &Aabb::from_points(c - h, c + h))
+            })
+            .collect();
+        let want = cheapest_split(&items);
+        let mut got = items.clone();
+        let ext = Extents::of(&items);
+        match (split(&mut got, &ext, 0), want) {
+            (None, None) => leaves += 1,
+            (Some((mid, left, right)), Some((ids, left_box, right_box))) => {
+                let mut left_ids: Vec<u32> = got[..mid].iter().map(|it| it.index()).collect();
+                left_ids.sort_unstable();
+                assert_eq!(left_ids, ids, "case {case}: {items:?}");
+                assert_eq!((left.bounds, right.bounds), (left_box, right_box));
+                splits += 1;
+            }
+            (got, want) => panic!("case {case}: split {got:?}, cheapest {want:?}, {items:?}"),
+        }
+    }
+    assert!(
+        splits > 1000 && leaves > 100,
+        "{splits} splits, {leaves} leaves"
+    );
 }
 
 /// Centroids at 2^k: each SAH split peels off only the largest few, so
