@@ -107,6 +107,14 @@ impl MaterialTable {
         }
     }
 
+    /// The finish index of material `index` (0 when out of range): reading
+    /// it brings the material's entry into the cache ahead of
+    /// [`MaterialTable::get`].
+    #[inline]
+    pub fn finish_of(&self, index: u32) -> u32 {
+        self.entries.get(index as usize).map_or(0, |e| e.finish)
+    }
+
     /// Adds a material and returns its index; one identical (bit for bit)
     /// to the last added is shared.
     pub fn add(&mut self, material: &Material) -> u32 {

@@ -155,6 +155,13 @@ impl Scene {
         self.materials.get(object.material)
     }
 
+    /// A number read from `object`'s material entry: reading it ahead of
+    /// [`Scene::material_of`] brings the entry into the cache.
+    #[inline]
+    pub fn read_material_ahead(&self, object: &Object) -> u32 {
+        self.materials.finish_of(object.material)
+    }
+
     /// The material at `index` (in the order added, shared ones once);
     /// panics if out of range.
     pub fn material(&self, index: u32) -> Material {

@@ -86,6 +86,10 @@ pub(crate) struct Whitted<'a> {
     photons: PhotonShading<'a>,
 }
 
+/// Materials beyond which a camera packet reads its hits' materials ahead
+/// (32 bytes each: 64 KiB, more than a core's first-level cache).
+const READ_AHEAD_MATERIALS: usize = 2048;
+
 impl<'a> Whitted<'a> {
     /// The tracer over `scene` (its dialect, its camera's quality keys)
     /// using `accel` (built over the scene's objects) for ray queries, with
@@ -148,6 +152,17 @@ impl<'a> Whitted<'a> {
             }
         } else {
             self.accel.intersect_packet(rays, found);
+        }
+        // The hits' materials read for the whole packet first, when there
+        // are more than a cache holds: their misses (a million spheres'
+        // materials fill 32 MB) then overlap, where each ray's shading
+        // would wait for its own in turn.
+        if self.scene.material_count() > READ_AHEAD_MATERIALS {
+            let objects = self.accel.objects();
+            let ahead = found.iter().flatten().fold(0, |a, &(i, _)| {
+                a ^ self.scene.read_material_ahead(&objects[i as usize])
+            });
+            std::hint::black_box(ahead);
         }
         for (k, (ray, &hit)) in rays.iter().zip(found.iter()).enumerate() {
             if O::COUNTS_QUERIES {
