@@ -310,8 +310,9 @@ pub(super) fn split(
         }
         // The bins that hold items, in order. A split after an empty bin
         // parts the items as the split after the last bin before it that
-        // holds some, at the same cost, and is weighed after it: only splits
-        // after bins that hold items can be chosen.
+        // holds some, at the same cost, and is weighed after it; a split
+        // before the first or after the last leaves a side empty. Only
+        // splits after a bin that holds items, before another, are weighed.
         let mut held = [0u8; BINS];
         let mut m = 0;
         for (i, bin) in bins[..bins_used].iter().enumerate() {
@@ -319,8 +320,7 @@ pub(super) fn split(
             m += usize::from(bin.count > 0);
         }
         // Cost (half area x count of both sides) of splitting after held
-        // bin r. The sides' boxes are kept: the union of their bins' is
-        // that of their items'.
+        // bin r (a side's box: the union of its bins', so of its items').
         let mut right_cost = [0f64; BINS];
         let mut acc = EMPTY;
         let mut count = 0;
@@ -349,12 +349,14 @@ pub(super) fn split(
                 return None;
             }
             let i = held[r] as usize;
-            // The right side's box, as the sweep above made it.
+            // The right side's box, its bins in the sweep's order: `union`
+            // keeps the first of 0 and −0, and the tree's bits are kept.
             let mut right_bounds = EMPTY;
             for &j in held[r + 1..m].iter().rev() {
                 union(&mut right_bounds, &bins[j as usize].bounds);
             }
-            // Both sides are non-empty: the counts above came from the same bin_of.
+            // Both sides hold items: bins `held[r]` and `held[r + 1]` do
+            // (by the same `bin_of` as the partition's).
             let mut left = Extents {
                 bounds: left_bounds,
                 cent: EMPTY,

@@ -400,8 +400,11 @@ fn same_tree_on_one_or_two_threads() -> Result<(), rayon::ThreadPoolBuildError> 
 
 /// The split the surface area heuristic asks for, weighed from the items
 /// themselves at every bin boundary (empty bins included): the first
-/// cheapest boundary's left items, and both sides' boxes; `None` for a
-/// leaf. Nodes whose centroids coincide are left out (they split at the median).
+/// cheapest boundary's left items, and both sides' boxes (each bin's items
+/// in order, the bins outwards from the first for the left side and
+/// inwards from the last for the right, as the build's sweeps take them,
+/// which tells 0 from −0); `None` for a leaf. For nodes whose centroids
+/// differ (others split at the median).
 fn cheapest_split(items: &[Item]) -> Option<(Vec<u32>, [f32; 6], [f32; 6])> {
     let n = items.len();
     let cent = |it: &Item, a: usize| it.bounds[a] * 0.5 + it.bounds[a + 3] * 0.5;
@@ -436,7 +439,15 @@ fn cheapest_split(items: &[Item]) -> Option<(Vec<u32>, [f32; 6], [f32; 6])> {
         side.iter().for_each(|it| union(&mut b, &it.bounds));
         b
     };
-    let mut best: Option<(f64, Vec<&Item>, Vec<&Item>)> = None;
+    let bins_box = |ks: &mut dyn Iterator<Item = usize>| {
+        let mut b = EMPTY;
+        for k in ks {
+            let of_bin: Vec<&Item> = items.iter().filter(|it| bin_of(it) == k).collect();
+            union(&mut b, &side_box(&of_bin));
+        }
+        b
+    };
+    let mut best: Option<(f64, usize, Vec<&Item>)> = None;
     for i in 0..bins - 1 {
         let (left, right): (Vec<&Item>, Vec<&Item>) = items.iter().partition(|it| bin_of(it) <= i);
         if left.is_empty() || right.is_empty() {
@@ -445,17 +456,21 @@ fn cheapest_split(items: &[Item]) -> Option<(Vec<u32>, [f32; 6], [f32; 6])> {
         let cost = half_area(&side_box(&left)) * left.len() as f64
             + half_area(&side_box(&right)) * right.len() as f64;
         if best.as_ref().is_none_or(|(c, _, _)| cost < *c) {
-            best = Some((cost, left, right));
+            best = Some((cost, i, left));
         }
     }
-    let (cost, left, right) = best?;
+    let (cost, i, left) = best?;
     let area = half_area(&side_box(&items.iter().collect::<Vec<_>>()));
     if TRAVERSAL_COST * area + cost >= n as f64 * area && n <= MAX_LEAF {
         return None;
     }
     let mut ids: Vec<u32> = left.iter().map(|it| it.index()).collect();
     ids.sort_unstable();
-    Some((ids, side_box(&left), side_box(&right)))
+    Some((
+        ids,
+        bins_box(&mut (0..=i)),
+        bins_box(&mut (i + 1..bins).rev()),
+    ))
 }
 
 #[test]
@@ -474,12 +489,25 @@ fn split_takes_the_cheapest_bin_boundary() {
             .map(|_| DVec3::new(rng.random(), rng.random(), rng.random()) * 50.0)
             .collect();
         let spread = [1e-3, 0.1, 5.0][case % 3];
+        // Some cases hold boxes whose lowest y is 0 or −0 (made directly:
+        // padded boxes reach below 0): sides that join several must take
+        // their bins in the sweeps' order.
+        let zeros = case % 4 == 3;
         let items: Vec<Item> = (0..n)
             .filter_map(|i| {
                 let c = clusters[rng.random_range(0..clusters.len())]
                     + DVec3::new(rng.random(), rng.random(), rng.random()) * spread;
                 let h = DVec3::new(rng.random(), rng.random(), rng.random())
                     * 10f64.powf(rng.random_range(-3.0..0.5));
+                if zeros && rng.random_bool(0.5) {
+                    let zero = if rng.random_bool(0.5) { -0.0 } else { 0.0 };
+                    let (lo, hi) = ((c - h).as_vec3(), (c + h).as_vec3());
+                    let bounds = [lo.x, zero, lo.z, hi.x, hi.y.max(1.0), hi.z];
+                    return Some(Item {
+                        bounds,
+                        index: i as u32,
+                    });
+                }
                 Item::new(i as u32, &Aabb::from_points(c - h, c + h))
             })
             .collect();
@@ -492,7 +520,12 @@ fn split_takes_the_cheapest_bin_boundary() {
                 let mut left_ids: Vec<u32> = got[..mid].iter().map(|it| it.index()).collect();
                 left_ids.sort_unstable();
                 assert_eq!(left_ids, ids, "case {case}: {items:?}");
-                assert_eq!((left.bounds, right.bounds), (left_box, right_box));
+                let bits = |b: [f32; 6]| b.map(f32::to_bits);
+                assert_eq!(
+                    (bits(left.bounds), bits(right.bounds)),
+                    (bits(left_box), bits(right_box)),
+                    "case {case}: {items:?}"
+                );
                 splits += 1;
             }
             (got, want) => panic!("case {case}: split {got:?}, cheapest {want:?}, {items:?}"),
