@@ -27,6 +27,8 @@ use crate::geometry::Ray;
 use crate::scene::{Camera, Scene};
 use glam::DVec3;
 pub(crate) use whitted::PhotonShading;
+#[cfg(test)]
+pub(crate) use whitted::READ_AHEAD_MATERIALS;
 use whitted::Whitted;
 
 /// An integrator bound to a scene and its acceleration structure.

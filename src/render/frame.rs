@@ -562,6 +562,8 @@ mod tests {
     #[test]
     fn packets_equal_single_rays() -> Result<(), crate::scene::SceneError> {
         let scene = scene()?;
+        // Enough materials that the packets read them ahead.
+        assert!(scene.material_count() > crate::integrator::READ_AHEAD_MATERIALS);
         let (accel, camera) = prepared(&scene);
         let frame = Frame::new(
             &camera,

@@ -107,11 +107,11 @@ impl MaterialTable {
         }
     }
 
-    /// The finish index of material `index` (0 when out of range): reading
-    /// it brings the material's entry into the cache ahead of
+    /// A number read from material `index`'s entry (its finish; 0 when out
+    /// of range), of no use but to bring the entry into the cache ahead of
     /// [`MaterialTable::get`].
     #[inline]
-    pub fn finish_of(&self, index: u32) -> u32 {
+    pub fn read_ahead(&self, index: u32) -> u32 {
         self.entries.get(index as usize).map_or(0, |e| e.finish)
     }
 

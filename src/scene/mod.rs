@@ -155,11 +155,11 @@ impl Scene {
         self.materials.get(object.material)
     }
 
-    /// A number read from `object`'s material entry: reading it ahead of
-    /// [`Scene::material_of`] brings the entry into the cache.
+    /// A number read from `object`'s material entry, meaningless: reading
+    /// it ahead of [`Scene::material_of`] brings the entry into the cache.
     #[inline]
-    pub fn read_material_ahead(&self, object: &Object) -> u32 {
-        self.materials.finish_of(object.material)
+    pub(crate) fn read_material_ahead(&self, object: &Object) -> u32 {
+        self.materials.read_ahead(object.material)
     }
 
     /// The material at `index` (in the order added, shared ones once);

@@ -88,7 +88,7 @@ pub(crate) struct Whitted<'a> {
 
 /// Materials beyond which a camera packet reads its hits' materials ahead
 /// (32 bytes each: 64 KiB, more than a core's first-level cache).
-const READ_AHEAD_MATERIALS: usize = 2048;
+pub(crate) const READ_AHEAD_MATERIALS: usize = 2048;
 
 impl<'a> Whitted<'a> {
     /// The tracer over `scene` (its dialect, its camera's quality keys)
