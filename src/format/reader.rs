@@ -29,8 +29,10 @@ const HEADERS: [&str; 6] = [
     "obj",
 ];
 
-/// How much of a scene file is read at a time.
-const CHUNK: usize = 1 << 20;
+/// How much of a scene file is read at a time. Each piece's two-thread
+/// pass starts and ends once: 4 MiB reads the million spheres about 3 %
+/// faster than 1 MiB, 16 MiB slower (docs/performance.md).
+const CHUNK: usize = 1 << 22;
 
 pub(crate) fn parse_file(path: &Path, dialect: Option<Dialect>) -> Result<Scene, SceneError> {
     let file = open_regular(path).map_err(|e| read_error(path, &e, 0))?;
