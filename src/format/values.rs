@@ -247,8 +247,9 @@ pub(crate) fn parse_number(s: &str) -> Result<f64, NumberError> {
     // once: the correctly rounded value, which is what `str::parse` gives.
     let scale = exponent - fraction as i64;
     let x = if mantissa <= 15 && scale.abs() <= 22 {
-        // At most 15 digits: below 2^63, so the signed conversion (one
-        // instruction on any x86-64) gives the same value.
+        // Every digit counts, leading zeros too: w < 10^15 < 2^53, so both
+        // conversions are exact, and the signed one is one instruction on
+        // any x86-64.
         let x = (w as i64) as f64;
         let p = POWERS_OF_TEN[scale.unsigned_abs() as usize];
         let x = if scale >= 0 { x * p } else { x / p };
