@@ -528,7 +528,7 @@ fn split_takes_the_cheapest_bin_boundary() {
                 );
                 splits += 1;
             }
-            (got, want) => panic!("case {case}: split {got:?}, cheapest {want:?}, {items:?}"),
+            (got, want) => panic!("case {case}: split {got:?}, cheapest {want:?}, {items:?}"), // invariant: a test's failure (split and the reference disagree)
         }
     }
     assert!(
