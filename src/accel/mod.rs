@@ -342,7 +342,15 @@ impl<P: Primitive> Accel<P> {
         t_max: f64,
         ignore_light: Option<u32>,
     ) -> bool {
-        !self.lights_own(i, ignore_light) && self.hit::<UNBOUNDED>(i, ray, t_max).is_some()
+        if self.lights_own(i, ignore_light) {
+            return false;
+        }
+        let shape = self.objects[i as usize].shape();
+        if UNBOUNDED {
+            shape.intersect_unbounded(ray, ray.t_min, t_max).is_some()
+        } else {
+            shape.blocks_bounded(ray, ray.t_min, t_max)
+        }
     }
 
     /// Object `i`'s hit by `ray` with `ray.t_min` < t < `t_max`. The

@@ -58,6 +58,16 @@ impl Shape {
         }
     }
 
+    /// Whether [`Shape::intersect_bounded`] finds a hit: a Bézier surface's
+    /// search ends at the first it finds, not the nearest.
+    #[inline(always)]
+    pub fn blocks_bounded(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
+        match self {
+            Shape::Bezier(b) => b.blocks(ray, t_min, t_max),
+            _ => self.intersect_bounded(ray, t_min, t_max).is_some(),
+        }
+    }
+
     /// [`Shape::intersect`] with a sphere's test inlined at the call.
     #[inline(always)]
     pub fn intersect_bounded(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {

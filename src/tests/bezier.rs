@@ -25,12 +25,18 @@ fn surface_of(m: &Model) -> Bezier {
 /// a reported hit lies on the surface circle of its s (1e-9 relative; s is
 /// not compared, as a folded profile may pass a point at several s) within the window,
 /// and no clear (non-grazing, not on the rim) reference hit is nearer; no
-/// hit is reported only if the reference has no clear hit.
+/// hit is reported only if the reference has no clear hit; the any-hit
+/// query agrees.
 fn check(model: &Model, ray: &Ray, t_min: f64, t_max: f64, refs: &[RefHit]) -> Result<(), String> {
     let shape = surface_of(model);
     let span = model.scale + (ray.origin - model.o1).length();
     let tol = 1e-7 * span;
     let mine = shape.intersect(ray, t_min, t_max);
+    // The any-hit query (shadow rays) answers as the nearest hit does.
+    let blocked = shape.blocks(ray, t_min, t_max);
+    if blocked != mine.is_some() {
+        return Err(format!("any-hit says {blocked}, the nearest hit {mine:?}"));
+    }
     let clear = refs
         .iter()
         .filter(|h| {

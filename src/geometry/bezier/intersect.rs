@@ -19,6 +19,21 @@ impl Bezier {
     /// The nearest hit with `t_min < t < t_max`; `Hit::u` is the curve
     /// parameter s of the hit.
     pub fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
+        self.find::<false>(ray, t_min, t_max)
+    }
+
+    /// Whether [`Bezier::intersect`] finds a hit, for an any-hit query: the
+    /// pieces are solved in turn, not nearest first, up to the first that
+    /// has one. (A piece's solution within `t_max` has one exactly when its
+    /// solution within any nearer limit has, so the answer is the same.)
+    pub fn blocks(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
+        self.find::<true>(ray, t_min, t_max).is_some()
+    }
+
+    /// The nearest hit, or with `ANY` the first found (whose `t` and `u`
+    /// are meaningless but for being a hit).
+    #[inline(always)]
+    fn find<const ANY: bool>(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
         let pieces = &self.pieces;
         if pieces.degree() == 0 {
             return None;
@@ -38,6 +53,14 @@ impl Bezier {
             let Some(entry) = pc.shell.entry(&ar, lo, best_t - t0 + slack) else {
                 continue;
             };
+            if ANY {
+                // Every piece within the shell's window, in list order.
+                if let Some((t, s)) = solve_piece(pieces, i, &ar, slice, best_t) {
+                    (best_t, best_s) = (t, s);
+                    break;
+                }
+                continue;
+            }
             if sorted < SORTED {
                 let mut j = sorted;
                 while j > 0 && order[j - 1].0 > entry {
