@@ -345,10 +345,10 @@ impl<P: Primitive> Accel<P> {
         if self.lights_own(i, ignore_light) {
             return false;
         }
-        let shape = self.objects[i as usize].shape();
         if UNBOUNDED {
-            shape.intersect_unbounded(ray, ray.t_min, t_max).is_some()
+            self.hit::<true>(i, ray, t_max).is_some()
         } else {
+            let shape = self.objects[i as usize].shape();
             shape.blocks_bounded(ray, ray.t_min, t_max)
         }
     }

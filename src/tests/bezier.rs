@@ -32,7 +32,6 @@ fn check(model: &Model, ray: &Ray, t_min: f64, t_max: f64, refs: &[RefHit]) -> R
     let span = model.scale + (ray.origin - model.o1).length();
     let tol = 1e-7 * span;
     let mine = shape.intersect(ray, t_min, t_max);
-    // The any-hit query (shadow rays) answers as the nearest hit does.
     let blocked = shape.blocks(ray, t_min, t_max);
     if blocked != mine.is_some() {
         return Err(format!("any-hit says {blocked}, the nearest hit {mine:?}"));
@@ -323,6 +322,11 @@ fn apex_rays_check(m: &Model, h: f64, r0: f64, r1: f64, count: usize) {
         let dist = 0.5 + 3.0 * rng.next();
         let ray = Ray::new(apex - dir * dist, dir);
         let hit = shape.intersect(&ray, 0.0, f64::INFINITY);
+        assert_eq!(
+            shape.blocks(&ray, 0.0, f64::INFINITY),
+            hit.is_some(),
+            "{ray:?}"
+        );
         let inside = dir.dot(m.a).abs() > cos_half_angle + 1e-6;
         let outside = dir.dot(m.a).abs() < cos_half_angle - 1e-6;
         if inside || (outside && hit.is_some()) {
@@ -532,7 +536,13 @@ fn axis_apex_check(count: usize, seed: u64, degree_of: impl Fn(usize) -> usize) 
         for dir in [m.a, -m.a] {
             let ray = Ray::new(apex - dir * (1.0 + 10.0 * rng.next()), dir);
             let want = (apex - ray.origin).dot(dir);
-            let h = surface_of(&m).intersect(&ray, 0.0, f64::INFINITY);
+            let surface = surface_of(&m);
+            let h = surface.intersect(&ray, 0.0, f64::INFINITY);
+            assert_eq!(
+                surface.blocks(&ray, 0.0, f64::INFINITY),
+                h.is_some(),
+                "{ray:?}"
+            );
             // Only the nearest apex on the ray counts; skip rays that meet
             // another (where r has several zeros) first.
             let first = zeros

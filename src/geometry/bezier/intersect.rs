@@ -1,6 +1,7 @@
 //! The nearest hit of a ray: the pieces whose shells the ray reaches,
-//! nearest entry first, each solved by the formulation that suits the ray
-//! on storage that suits the degree.
+//! nearest entry first (or, for shadow rays, any hit: the pieces in list
+//! order), each solved by the formulation that suits the ray on storage
+//! that suits the degree.
 
 use super::super::{Hit, Ray};
 use super::Bezier;
@@ -23,15 +24,17 @@ impl Bezier {
     }
 
     /// Whether [`Bezier::intersect`] finds a hit, for an any-hit query: the
-    /// pieces are solved in turn, not nearest first, up to the first that
-    /// has one. (A piece's solution within `t_max` has one exactly when its
-    /// solution within any nearer limit has, so the answer is the same.)
+    /// pieces are solved in list order up to the first with a hit. (Until
+    /// its first hit the nearest search tests the shells and solves the
+    /// pieces with the bound `t_max`, and solves every piece the ray
+    /// enters, so it finds a hit exactly when some piece has one within
+    /// `t_max`.)
     pub fn blocks(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
         self.find::<true>(ray, t_min, t_max).is_some()
     }
 
-    /// The nearest hit, or with `ANY` the first found (whose `t` and `u`
-    /// are meaningless but for being a hit).
+    /// The nearest hit, or with `ANY` the first found, not necessarily the
+    /// nearest.
     #[inline(always)]
     fn find<const ANY: bool>(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
         let pieces = &self.pieces;
@@ -54,7 +57,8 @@ impl Bezier {
                 continue;
             };
             if ANY {
-                // Every piece within the shell's window, in list order.
+                // Pieces the ray enters, solved in list order; the first
+                // hit ends the search.
                 if let Some((t, s)) = solve_piece(pieces, i, &ar, slice, best_t) {
                     (best_t, best_s) = (t, s);
                     break;
