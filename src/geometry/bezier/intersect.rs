@@ -26,9 +26,9 @@ impl Bezier {
     /// Whether [`Bezier::intersect`] finds a hit, for an any-hit query: the
     /// pieces are solved in list order up to the first with a hit. (Until
     /// its first hit the nearest search tests the shells and solves the
-    /// pieces with the bound `t_max`, and solves every piece the ray
-    /// enters, so it finds a hit exactly when some piece has one within
-    /// `t_max`.)
+    /// pieces with the bound `t_max` and passes over no piece the ray
+    /// enters, so both find a hit exactly when some piece the ray enters
+    /// has one below `t_max`.)
     pub fn blocks(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
         self.find::<true>(ray, t_min, t_max).is_some()
     }
