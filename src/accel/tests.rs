@@ -407,12 +407,11 @@ fn same_tree_on_one_or_two_threads() -> Result<(), rayon::ThreadPoolBuildError> 
 /// differ (others split at the median).
 fn cheapest_split(items: &[Item]) -> Option<(Vec<u32>, [f32; 6], [f32; 6])> {
     let n = items.len();
-    let cent = |it: &Item, a: usize| it.bounds[a] * 0.5 + it.bounds[a + 3] * 0.5;
     let extent = |a: usize| {
         let (lo, hi) = items
             .iter()
             .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), it| {
-                (lo.min(cent(it, a)), hi.max(cent(it, a)))
+                (lo.min(it.centroid(a)), hi.max(it.centroid(a)))
             });
         (lo, hi - lo)
     };
