@@ -94,6 +94,13 @@ pub(crate) struct MaterialTable {
     /// different finish with the same hash (never seen in practice) is
     /// stored unshared.
     by_hash: HashMap<u64, u32>,
+    /// Entry index by a hash of its colour's bits and its finish, the last
+    /// entry stored in each slot (empty until the first entry): an entry
+    /// equal to one in its slot is shared, so files that cycle through a few
+    /// colours keep a few entries, hot in the cache when shaded.
+    recent: Vec<u32>,
+    /// The index [`MaterialTable::add`] returned last.
+    last: u32,
 }
 
 impl MaterialTable {
@@ -115,21 +122,22 @@ impl MaterialTable {
         self.entries.get(index as usize).map_or(0, |e| e.finish)
     }
 
-    /// Adds a material and returns its index; one identical (bit for bit)
-    /// to the last added is shared.
+    /// Adds a material and returns its index. One identical (bit for bit)
+    /// to the last added, or to the last stored in its slot of
+    /// [`RECENT_SLOTS`], is shared.
     pub fn add(&mut self, material: &Material) -> u32 {
         let bits = finish_bits(material);
         let last = self
             .entries
-            .last()
+            .get(self.last as usize)
             .map(|e| (e, finish_bits(&self.finishes[e.finish as usize])));
         let finish = match last {
             // Generated files repeat the same material block after block.
             Some((e, last_bits)) if last_bits == bits => {
                 if color_bits(e.color) == color_bits(material.color) {
-                    return (self.entries.len() - 1) as u32;
+                    return self.last;
                 }
-                // Only the colour is new: no hashing needed.
+                // Only the colour is new: no hashing of the finish needed.
                 e.finish
             }
             _ => {
@@ -140,11 +148,26 @@ impl MaterialTable {
                 self.intern(finish, bits, hash_bits(&bits))
             }
         };
-        self.entries.push(MaterialEntry {
-            color: material.color,
-            finish,
-        });
-        (self.entries.len() - 1) as u32
+        if self.recent.is_empty() {
+            self.recent = vec![u32::MAX; RECENT_SLOTS];
+        }
+        let slot = recent_slot(material.color, finish);
+        let seen = self.recent[slot];
+        self.last = match self.entries.get(seen as usize) {
+            Some(e) if e.finish == finish && color_bits(e.color) == color_bits(material.color) => {
+                seen
+            }
+            _ => {
+                self.entries.push(MaterialEntry {
+                    color: material.color,
+                    finish,
+                });
+                let index = (self.entries.len() - 1) as u32;
+                self.recent[slot] = index;
+                index
+            }
+        };
+        self.last
     }
 
     /// Room for `more` materials beyond those stored ([`make_room`]).
@@ -175,6 +198,17 @@ impl MaterialTable {
         self.by_hash.entry(hash).or_insert(i);
         i
     }
+}
+
+/// Slots of [`MaterialTable`]'s table of recent entries (16 KiB of them).
+pub(crate) const RECENT_SLOTS: usize = 4096;
+
+/// The slot of an entry of colour `color` and finish `finish`: its bits
+/// mixed by one multiplication (Fibonacci hashing), the top bits kept.
+fn recent_slot(color: DVec3, finish: u32) -> usize {
+    let [x, y, z] = color_bits(color);
+    let key = x ^ y.rotate_left(21) ^ z.rotate_left(42) ^ u64::from(finish);
+    (key.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> (64 - RECENT_SLOTS.trailing_zeros())) as usize
 }
 
 fn hash_bits(bits: &[u64; 11]) -> u64 {
@@ -235,11 +269,34 @@ mod tests {
             assert_eq!(finish_bits(&got), finish_bits(m));
             assert_eq!(color_bits(got.color), color_bits(m.color));
         }
-        // A NaN is the same NaN: equal bits are shared even where == is false.
+        // A NaN is the same NaN: equal bits are shared even where == is
+        // false, after other materials as right after itself.
         let nan = all[3];
-        assert_eq!(scene.add(&nan), 5);
-        assert_eq!(scene.add(&nan), 5);
-        assert_eq!(scene.finish_count(), 4);
+        assert_eq!(scene.add(&nan), 3);
+        assert_eq!(scene.add(&nan), 3);
+        assert_eq!((scene.len(), scene.finish_count()), (5, 4));
+    }
+
+    #[test]
+    fn an_entry_whose_slot_another_took_is_stored_again_exactly() {
+        // Two colours of one slot (found by search, not by the slot's formula).
+        let slot = |c| recent_slot(c, 0);
+        let a = DVec3::new(0.5, 0.25, 1.0);
+        let b = (1..)
+            .map(|i| DVec3::new(i as f64, 0.0, 0.0))
+            .find(|&c| slot(c) == slot(a))
+            .expect("a colour of a's slot"); // invariant: 4096 slots, so some colour of the first thousands shares a's
+        let mut table = MaterialTable::default();
+        let indices: Vec<_> = [a, b, a, a, b]
+            .iter()
+            .map(|&c| table.add(&glossy(c)))
+            .collect();
+        // b took a's slot, so a's third add stores it anew; the fourth is
+        // the last added, and b's second is in the slot no more.
+        assert_eq!(indices, vec![0, 1, 2, 2, 3]);
+        for (i, c) in indices.iter().zip([a, b, a, a, b]) {
+            assert_eq!(color_bits(table.get(*i).color), color_bits(c));
+        }
     }
 
     #[test]

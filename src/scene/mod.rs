@@ -310,7 +310,8 @@ impl Scene {
     }
 
     /// Adds a material and returns its id. One identical (bit for bit) to
-    /// the last added is shared; otherwise it costs 32 bytes, plus its keys
+    /// the last added, or to a recent one (a table of recent entries, so
+    /// most repeats), is shared; otherwise it costs 32 bytes, plus its keys
     /// other than `color=` when no earlier material had them all identical.
     /// A texture index (also a normal map's) that names no texture of this
     /// scene is dropped.

@@ -154,7 +154,7 @@ impl<'a> Whitted<'a> {
             self.accel.intersect_packet(rays, found);
         }
         // The hits' materials read for the whole packet first, when there
-        // are more than a cache holds: their misses (a million spheres'
+        // are more than a cache holds: their misses (a million distinct
         // materials fill 32 MB) then overlap, where each ray's shading
         // would wait for its own in turn.
         if self.scene.material_count() > READ_AHEAD_MATERIALS {

@@ -380,11 +380,11 @@ primitive square\n Dx= 1 0 0\n Dy= 0 1 0\nend
 ");
     let blocks: Vec<_> = s.objects().iter().map(|o| o.block()).collect();
     assert_eq!(blocks, vec![Some(0), None, Some(1), Some(2)]);
-    // The plane and the square, one after the other with the same (default)
-    // material, share it; the others keep their own.
+    // The sphere, the plane and the square, with the same (default)
+    // material, share it; the light's surface keeps its own.
     let materials: Vec<_> = s.objects().iter().map(|o| o.material).collect();
-    assert_eq!(materials, vec![0, 1, 2, 2]);
-    assert_eq!(s.material_count(), 3);
+    assert_eq!(materials, vec![0, 1, 0, 0]);
+    assert_eq!(s.material_count(), 2);
     // The light's surface differs only in colour: all share one finish.
     assert_eq!(s.finish_count(), 1);
 }
