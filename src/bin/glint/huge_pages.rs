@@ -64,7 +64,8 @@ fn huge_range(block: usize, len: usize) -> Option<(usize, usize)> {
     (len >= ADVISED_FROM && start < end).then_some((start, end))
 }
 
-#[cfg(target_os = "linux")]
+// Miri has no madvise: under it, the blocks pass through unadvised.
+#[cfg(all(target_os = "linux", not(miri)))]
 fn advise_range(start: usize, len: usize) {
     // SAFETY: `start..start + len` lies inside a block the allocator has
     // just returned, so it is mapped; MADV_HUGEPAGE is advice only, which
@@ -72,15 +73,16 @@ fn advise_range(start: usize, len: usize) {
     unsafe { libc::madvise(start as *mut libc::c_void, len, libc::MADV_HUGEPAGE) };
 }
 
-#[cfg(not(target_os = "linux"))]
+#[cfg(any(not(target_os = "linux"), miri))]
 fn advise_range(_start: usize, _len: usize) {}
 
-#[cfg(all(test, target_os = "linux"))]
+#[cfg(test)]
 mod tests {
     use super::*;
 
     /// The `VmFlags` line of the mapping of /proc/self/smaps that holds
     /// `address`.
+    #[cfg(target_os = "linux")]
     fn flags_of(address: usize) -> Option<String> {
         let smaps = std::fs::read_to_string("/proc/self/smaps").ok()?;
         let mut inside = false;
@@ -114,6 +116,24 @@ mod tests {
     }
 
     #[test]
+    fn blocks_keep_their_bytes_when_grown_past_the_threshold_and_come_zeroed() {
+        // Through this allocator (the test binary's global one): a small
+        // block grown by realloc into an advised one keeps its bytes ...
+        let mut grown = vec![7u8; 64 << 10];
+        grown[12_345] = 1;
+        grown.reserve_exact(8 << 20);
+        assert!(grown.capacity() >= ADVISED_FROM);
+        assert_eq!((grown[0], grown[12_345], grown[(64 << 10) - 1]), (7, 1, 7));
+        grown.extend([3, 3]);
+        assert_eq!((grown[12_345], grown[(64 << 10) + 1]), (1, 3));
+        // ... and an advised zeroed block is zero throughout (a word a page).
+        let zeroed = vec![0u64; 1 << 20];
+        assert!(zeroed.iter().step_by(512).all(|&w| w == 0));
+    }
+
+    #[test]
+    #[cfg(target_os = "linux")]
+    #[cfg_attr(miri, ignore = "Miri has no madvise")]
     fn a_large_block_is_advised_huge_pages() {
         if !std::path::Path::new("/sys/kernel/mm/transparent_hugepage/enabled").exists() {
             eprintln!("skipped: this kernel has no transparent huge pages");
