@@ -94,11 +94,12 @@ pub(crate) struct MaterialTable {
     /// different finish with the same hash (never seen in practice) is
     /// stored unshared.
     by_hash: HashMap<u64, u32>,
-    /// Entry index by a hash of its colour's bits and its finish, the last
-    /// entry stored in each slot (empty until the first entry): an entry
-    /// equal to one in its slot is shared, so files that cycle through a few
-    /// colours keep a few entries, hot in the cache when shaded.
-    recent: Vec<u32>,
+    /// Entry indices by a hash of their colour's bits and their finish: in
+    /// each set, the two entries of that hash used last, the latest first
+    /// (empty until the first entry). An entry equal to one in its set is
+    /// shared, so files that cycle through a few colours keep a few
+    /// entries, hot in the cache when shaded.
+    recent: Vec<[u32; 2]>,
     /// The index [`MaterialTable::add`] returned last.
     last: u32,
 }
@@ -123,8 +124,8 @@ impl MaterialTable {
     }
 
     /// Adds a material and returns its index. One identical (bit for bit)
-    /// to the last added, or to the last stored in its slot of
-    /// [`RECENT_SLOTS`], is shared.
+    /// to the last added, or to one of the two last used in its set of
+    /// [`RECENT_SETS`], is shared.
     pub fn add(&mut self, material: &Material) -> u32 {
         let bits = finish_bits(material);
         let last = self
@@ -149,23 +150,28 @@ impl MaterialTable {
             }
         };
         if self.recent.is_empty() {
-            self.recent = vec![u32::MAX; RECENT_SLOTS];
+            self.recent = vec![[u32::MAX; 2]; RECENT_SETS];
         }
-        let slot = recent_slot(material.color, finish);
-        let seen = self.recent[slot];
-        self.last = match self.entries.get(seen as usize) {
-            Some(e) if e.finish == finish && color_bits(e.color) == color_bits(material.color) => {
-                seen
-            }
-            _ => {
-                self.entries.push(MaterialEntry {
-                    color: material.color,
-                    finish,
-                });
-                let index = (self.entries.len() - 1) as u32;
-                self.recent[slot] = index;
-                index
-            }
+        let set = &mut self.recent[recent_set(material.color, finish)];
+        let entries = &self.entries;
+        let equal = |index: u32| {
+            entries.get(index as usize).is_some_and(|e| {
+                e.finish == finish && color_bits(e.color) == color_bits(material.color)
+            })
+        };
+        self.last = if equal(set[0]) {
+            set[0]
+        } else if equal(set[1]) {
+            set.swap(0, 1);
+            set[0]
+        } else {
+            self.entries.push(MaterialEntry {
+                color: material.color,
+                finish,
+            });
+            let index = (self.entries.len() - 1) as u32;
+            *set = [index, set[0]];
+            index
         };
         self.last
     }
@@ -200,15 +206,15 @@ impl MaterialTable {
     }
 }
 
-/// Slots of [`MaterialTable`]'s table of recent entries (16 KiB of them).
-pub(crate) const RECENT_SLOTS: usize = 4096;
+/// Sets of two in [`MaterialTable`]'s table of recent entries (16 KiB).
+pub(crate) const RECENT_SETS: usize = 2048;
 
-/// The slot of an entry of colour `color` and finish `finish`: its bits
+/// The set of an entry of colour `color` and finish `finish`: its bits
 /// mixed by one multiplication (Fibonacci hashing), the top bits kept.
-fn recent_slot(color: DVec3, finish: u32) -> usize {
+fn recent_set(color: DVec3, finish: u32) -> usize {
     let [x, y, z] = color_bits(color);
     let key = x ^ y.rotate_left(21) ^ z.rotate_left(42) ^ u64::from(finish);
-    (key.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> (64 - RECENT_SLOTS.trailing_zeros())) as usize
+    (key.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> (64 - RECENT_SETS.trailing_zeros())) as usize
 }
 
 fn hash_bits(bits: &[u64; 11]) -> u64 {
@@ -278,25 +284,50 @@ mod tests {
     }
 
     #[test]
-    fn an_entry_whose_slot_another_took_is_stored_again_exactly() {
-        // Two colours of one slot (found by search, not by the slot's formula).
-        let slot = |c| recent_slot(c, 0);
+    fn an_entry_its_set_forgot_is_stored_again_exactly() {
+        // Four colours of one set (found by search, not by the set's formula).
+        let set = |c| recent_set(c, 0);
         let a = DVec3::new(0.5, 0.25, 1.0);
-        let b = (1..)
+        let mut same_set = (1..)
             .map(|i| DVec3::new(i as f64, 0.0, 0.0))
-            .find(|&c| slot(c) == slot(a))
-            .expect("a colour of a's slot"); // invariant: 4096 slots, so some colour of the first thousands shares a's
+            .filter(|&c| set(c) == set(a));
+        let mut next = || same_set.next().expect("a colour of a's set"); // invariant: 2048 sets, so colours of a's set come every few thousand
+        let (b, c, d) = (next(), next(), next());
         let mut table = MaterialTable::default();
-        let indices: Vec<_> = [a, b, a, a, b]
-            .iter()
-            .map(|&c| table.add(&glossy(c)))
-            .collect();
-        // b took a's slot, so a's third add stores it anew; the fourth is
-        // the last added, and b's second is in the slot no more.
-        assert_eq!(indices, vec![0, 1, 2, 2, 3]);
-        for (i, c) in indices.iter().zip([a, b, a, a, b]) {
+        let colours = [a, b, a, c, d, a, d, c, b];
+        let indices: Vec<_> = colours.iter().map(|&c| table.add(&glossy(c))).collect();
+        // The set holds the two used last: a is shared while it is one of
+        // them (after b), stored anew once c and d came after it; d is
+        // shared after a, c and b are stored anew after three others.
+        assert_eq!(indices, vec![0, 1, 0, 2, 3, 4, 3, 5, 6]);
+        for (i, c) in indices.iter().zip(colours) {
             assert_eq!(color_bits(table.get(*i).color), color_bits(c));
         }
+    }
+
+    #[test]
+    fn one_colour_with_two_finishes_of_one_set_is_never_shared() {
+        // Finishes 1, 2, ... (their `diff=`), until one falls in the set of
+        // finish 0 with the same colour.
+        let c = DVec3::new(0.1, 0.6, 0.6);
+        let with_diff = |d: f64| Material {
+            diff: d,
+            ..glossy(c)
+        };
+        let mut table = MaterialTable::default();
+        assert_eq!(table.add(&with_diff(0.0)), 0);
+        let mut f = 0;
+        while recent_set(c, f) != recent_set(c, 0) || f == 0 {
+            f += 1;
+            table.add(&with_diff(f64::from(f)));
+        }
+        // Colour c with finish 0, then with finish f: the set holds both.
+        let first = table.add(&with_diff(0.0));
+        let second = table.add(&with_diff(f64::from(f)));
+        assert_eq!(first, 0);
+        assert_ne!(second, first);
+        assert_eq!(table.get(second).diff, f64::from(f));
+        assert_eq!(table.get(first).diff, 0.0);
     }
 
     #[test]
