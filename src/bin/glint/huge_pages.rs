@@ -67,10 +67,18 @@ fn huge_range(block: usize, len: usize) -> Option<(usize, usize)> {
 // Miri has no madvise: under it, the blocks pass through unadvised.
 #[cfg(all(target_os = "linux", not(miri)))]
 fn advise_range(start: usize, len: usize) {
-    // SAFETY: `start..start + len` lies inside a block the allocator has
-    // just returned, so it is mapped; MADV_HUGEPAGE is advice only, which
-    // changes no byte of it (a kernel without THP refuses it, harmlessly).
-    unsafe { libc::madvise(start as *mut libc::c_void, len, libc::MADV_HUGEPAGE) };
+    // SAFETY: `errno` is this thread's, always valid to read and write;
+    // `start..start + len` lies inside a block the allocator has just
+    // returned, so it is mapped, and MADV_HUGEPAGE is advice only, which
+    // changes no byte of it. A kernel that refuses it (no THP, EINVAL)
+    // leaves the block as it was, and `errno` is put back as it was
+    // before, so an allocation never changes it.
+    unsafe {
+        let errno = libc::__errno_location();
+        let saved = *errno;
+        libc::madvise(start as *mut libc::c_void, len, libc::MADV_HUGEPAGE);
+        *errno = saved;
+    }
 }
 
 #[cfg(any(not(target_os = "linux"), miri))]
@@ -139,19 +147,38 @@ mod tests {
             eprintln!("skipped: this kernel has no transparent huge pages");
             return;
         }
-        // Above glibc's largest mmap threshold (32 MiB): a mapping of its
-        // own, whose flags only this allocation's advice can set.
-        let layout = Layout::from_size_align(64 << 20, 64).expect("64 MiB"); // invariant: a valid size and alignment
-        // SAFETY: a nonzero size; the block is freed once, with its layout.
-        let flags = unsafe {
-            let block = HugePages.alloc(layout);
-            assert!(!block.is_null());
-            let flags = flags_of((block as usize).next_multiple_of(HUGE_PAGE));
-            HugePages.dealloc(block, layout);
-            flags
+        // 256 MiB: above glibc's largest mmap threshold (32 MiB) and trim
+        // threshold (64 MiB), so a fresh mapping, never the heap's top,
+        // whose flags only this allocation's advice can set. Only address
+        // space: nothing is touched.
+        let layout = Layout::from_size_align(256 << 20, 64).expect("256 MiB"); // invariant: a valid size and alignment
+        let hg = |flags: &Option<String>| {
+            let words = flags.as_deref().unwrap_or("");
+            words.split_whitespace().any(|w| w == "hg")
         };
+        // SAFETY: nonzero sizes; each block is freed once, with its layout;
+        // the control's madvise range lies inside its own live block.
+        let (control, flags) = unsafe {
+            // A control: the system's block, advised here directly, shows
+            // whether this kernel (or sandbox) takes and reports the advice.
+            let plain = System.alloc(layout);
+            let ours = HugePages.alloc(layout);
+            assert!(!plain.is_null() && !ours.is_null());
+            let page = (plain as usize).next_multiple_of(HUGE_PAGE);
+            let rc = libc::madvise(page as *mut libc::c_void, HUGE_PAGE, libc::MADV_HUGEPAGE);
+            let control = (rc == 0).then(|| flags_of(page)).flatten();
+            let flags = flags_of((ours as usize).next_multiple_of(HUGE_PAGE));
+            HugePages.dealloc(ours, layout);
+            System.dealloc(plain, layout);
+            (control, flags)
+        };
+        if !hg(&control) {
+            eprintln!(
+                "skipped: this system takes no MADV_HUGEPAGE or shows no VmFlags ({control:?})"
+            );
+            return;
+        }
         // "hg": the mapping was advised MADV_HUGEPAGE.
-        let words = flags.as_deref().unwrap_or("");
-        assert!(words.split_whitespace().any(|w| w == "hg"), "{flags:?}");
+        assert!(hg(&flags), "{flags:?}");
     }
 }
