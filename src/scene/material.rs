@@ -207,7 +207,7 @@ impl MaterialTable {
 }
 
 /// Sets of two in [`MaterialTable`]'s table of recent entries (16 KiB).
-pub(crate) const RECENT_SETS: usize = 2048;
+const RECENT_SETS: usize = 2048;
 
 /// The set of an entry of colour `color` and finish `finish`: its bits
 /// mixed by one multiplication (Fibonacci hashing), the top bits kept.
